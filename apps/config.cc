@@ -1,0 +1,171 @@
+#include "apps/config.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <functional>
+#include <sstream>
+#include <vector>
+
+#include "core/file_util.h"
+
+namespace semvox {
+namespace {
+
+// One configurable field: where it lives, how to read and print it, its allowed range and its meaning.
+struct Field {
+  std::string section, key, doc;
+  double min, max;  // Inclusive range for numbers.
+  std::function<double(const PipelineConfig&)> get;
+  std::function<void(PipelineConfig&, double)> set;
+  bool is_integer = false;
+  // String-valued fields (enums) use these instead.
+  std::vector<std::string> choices;
+  std::function<std::string(const PipelineConfig&)> get_str;
+  std::function<void(PipelineConfig&, const std::string&)> set_str;
+};
+
+#define SEMVOX_DOUBLE_FIELD(sec, member, name, lo, hi, doc)                                       \
+  Field { sec, #name, doc, lo, hi, [](const PipelineConfig& c) { return double(c.member.name); }, \
+          [](PipelineConfig& c, double v) { c.member.name = v; } }
+#define SEMVOX_INT_FIELD(sec, member, name, lo, hi, doc)                                          \
+  Field { sec, #name, doc, lo, hi, [](const PipelineConfig& c) { return double(c.member.name); }, \
+          [](PipelineConfig& c, double v) { c.member.name = decltype(c.member.name)(v); }, true }
+
+const std::vector<Field>& Fields() {
+  static const std::vector<Field> kFields = [] {
+    std::vector<Field> f;
+    {
+      Field up;
+      up.section = "input";
+      up.key = "up";
+      up.doc = "up axis of the input file: auto (+Y for glTF, +Z otherwise), z or y";
+      up.choices = {"auto", "z", "y"};
+      up.get_str = [](const PipelineConfig& c) {
+        return std::string(c.load.up == UpAxis::kAuto ? "auto" : c.load.up == UpAxis::kZ ? "z" : "y");
+      };
+      up.set_str = [](PipelineConfig& c, const std::string& v) {
+        c.load.up = v == "z" ? UpAxis::kZ : v == "y" ? UpAxis::kY : UpAxis::kAuto;
+      };
+      f.push_back(up);
+    }
+    f.push_back(SEMVOX_DOUBLE_FIELD("input", load, scale, 1e-6, 1e6, "multiplies coordinates into metres (0.001 for mm)"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("input", load, millimetre_warning_extent_m, 1, 1e9,
+                                    "warn about units when the scene is larger than this, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("mapping", voxelize, voxel_size_m, 0.005, 1.0, "voxel edge, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("mapping", voxelize, scan_spacing_m, 0.05, 100, "spacing of virtual scan positions, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("mapping", voxelize, scan_height_m, 0.1, 10, "scanner height above the floor, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("mapping", voxelize, scan_clearance_m, 0, 5, "free radius around a scan position, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("mapping", voxelize, max_range_m, 0.1, 1000, "scanner range, metres"));
+    f.push_back(SEMVOX_INT_FIELD("mapping", voxelize, enclosure_directions, 4, 360, "horizontal rays testing that a position is indoors"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("mapping", voxelize, min_enclosed_fraction, 0, 1, "fraction of those rays that must hit a surface"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("mapping", voxelize, horizontal_normal_deg, 0.1, 89, "max tilt of floor/ceiling surfaces, degrees"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("mapping", voxelize, min_floor_to_ceiling_m, 0.5, 20, "min ceiling height above the floor, metres"));
+    f.push_back(SEMVOX_INT_FIELD("mapping", voxelize, max_voxels, 1, 1e12, "refuse voxel grids larger than this"));
+    f.push_back(SEMVOX_INT_FIELD("mapping", voxelize, cloud_normal_neighbors, 3, 100, "k for point-cloud normals"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("occupancy", occupancy, band_min_above_floor_m, -10, 10, "height band bottom above the floor, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("occupancy", occupancy, band_max_above_floor_m, -10, 10, "height band top above the floor, metres"));
+    return f;
+  }();
+  return kFields;
+}
+
+std::string FormatNumber(double v, bool integer) {
+  std::ostringstream os;
+  if (integer) os << static_cast<long long>(v);
+  else os << v;
+  return os.str();
+}
+
+}  // namespace
+
+Status ParseConfig(const std::string& yaml_text, const std::string& name, PipelineConfig* config) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    return Status::InvalidInput(FileError(name, std::string("invalid YAML: ") + e.what(), "check indentation and colons"));
+  }
+  if (root.IsNull()) return Status::Ok();
+  if (!root.IsMap())
+    return Status::InvalidInput(FileError(name, "the configuration must be a map of sections", "see `semvox config --dump`"));
+  for (const auto& sec : root) {
+    const std::string section = sec.first.as<std::string>("");
+    bool section_known = false;
+    for (const Field& f : Fields()) section_known |= f.section == section;
+    if (!section_known)
+      return Status::InvalidInput(FileError(name, "unknown section '" + section + "'", "see `semvox config --dump`"));
+    if (!sec.second.IsMap())
+      return Status::InvalidInput(FileError(name, "section '" + section + "' must be a map of key: value", ""));
+    for (const auto& kv : sec.second) {
+      const std::string key = kv.first.as<std::string>("");
+      const Field* field = nullptr;
+      for (const Field& f : Fields())
+        if (f.section == section && f.key == key) field = &f;
+      if (!field)
+        return Status::InvalidInput(FileError(name, "unknown key '" + section + "." + key + "'", "see `semvox config --dump`"));
+      const std::string full = section + "." + key;
+      if (!kv.second.IsScalar())
+        return Status::InvalidInput(FileError(name, full + " must be a single value", ""));
+      const std::string text = kv.second.Scalar();
+      if (!field->choices.empty()) {
+        bool ok = false;
+        std::string all;
+        for (const auto& c : field->choices) ok |= c == text, all += (all.empty() ? "" : ", ") + c;
+        if (!ok) return Status::InvalidInput(FileError(name, full + " = '" + text + "'. Allowed: " + all, ""));
+        field->set_str(*config, text);
+        continue;
+      }
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0' || !std::isfinite(v))
+        return Status::InvalidInput(FileError(name, full + " = '" + text + "' is not a number", ""));
+      if (field->is_integer && v != std::floor(v))
+        return Status::InvalidInput(FileError(name, full + " = " + text + " must be an integer", ""));
+      if (v < field->min || v > field->max)
+        return Status::InvalidInput(FileError(name, full + " = " + text + ". Allowed range: [" +
+                                                        FormatNumber(field->min, field->is_integer) + ", " +
+                                                        FormatNumber(field->max, field->is_integer) + "]", ""));
+      field->set(*config, v);
+    }
+  }
+  return CheckConfig(*config);
+}
+
+Status LoadConfigFile(const std::string& path, PipelineConfig* config) {
+  std::string text;
+  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &text));
+  return ParseConfig(text, path, config);
+}
+
+Status CheckConfig(const PipelineConfig& config) {
+  std::string error;
+  if (!config.load.Check(&error)) return Status::InvalidInput("configuration: input." + error);
+  if (!config.voxelize.Check(&error)) return Status::InvalidInput("configuration: mapping." + error);
+  if (!config.occupancy.Check(&error)) return Status::InvalidInput("configuration: occupancy." + error);
+  return Status::Ok();
+}
+
+std::string DumpConfig(const PipelineConfig& config) {
+  std::ostringstream os;
+  os << "# semvox configuration. Every key is optional; unknown keys are errors.\n";
+  std::string section;
+  for (const Field& f : Fields()) {
+    if (f.section != section) {
+      section = f.section;
+      os << section << ":\n";
+    }
+    std::string value, range;
+    if (!f.choices.empty()) {
+      value = f.get_str(config);
+      for (const auto& c : f.choices) range += (range.empty() ? "" : " | ") + c;
+    } else {
+      value = FormatNumber(f.get(config), f.is_integer);
+      range = "[" + FormatNumber(f.min, f.is_integer) + ", " + FormatNumber(f.max, f.is_integer) + "]";
+    }
+    os << "  " << f.key << ": " << value << "  # " << f.doc << "; " << range << "\n";
+  }
+  return os.str();
+}
+
+}  // namespace semvox

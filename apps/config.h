@@ -1,0 +1,32 @@
+// The pipeline configuration: every stage's options, read from one YAML file.
+//
+// The YAML file has one section per stage (input, mapping, occupancy, ...) holding that stage's option
+// fields by name. Unknown sections or keys and out-of-range values are errors naming the key and the
+// allowed range. The effective configuration is written beside the outputs (config_used.yaml).
+#pragma once
+
+#include <string>
+
+#include "core/status.h"
+#include "io/load_scene.h"
+#include "mapping/occupancy_map.h"
+#include "mapping/voxelizer.h"
+
+namespace semvox {
+
+struct PipelineConfig {
+  LoadOptions load;
+  VoxelizeOptions voxelize;
+  OccupancyOptions occupancy;
+};
+
+// Applies the settings in `path` on top of `config`.
+Status LoadConfigFile(const std::string& path, PipelineConfig* config);
+// Same, from YAML text (`name` appears in messages).
+Status ParseConfig(const std::string& yaml_text, const std::string& name, PipelineConfig* config);
+// Every option with its value and a comment giving units, range and meaning.
+std::string DumpConfig(const PipelineConfig& config);
+// Runs every stage's Check(); the message names the section and key.
+Status CheckConfig(const PipelineConfig& config);
+
+}  // namespace semvox

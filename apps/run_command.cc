@@ -1,0 +1,110 @@
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+
+#include "apps/commands.h"
+#include "core/file_util.h"
+#include "core/log.h"
+#include "io/load_scene.h"
+#include "mapping/occupancy_map.h"
+#include "mapping/octomap_io.h"
+#include "mapping/voxelizer.h"
+
+namespace semvox {
+namespace fs = std::filesystem;
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
+
+// An output directory inside the input's own directory tree is fine; the input file itself must not be
+// overwritten by an output.
+Status CheckOutputNotInput(const std::string& input, const std::string& outdir) {
+  std::error_code ec;
+  const fs::path in = fs::weakly_canonical(input, ec);
+  const fs::path out = fs::weakly_canonical(outdir, ec);
+  if (!ec && in == out) return Status::InvalidInput(FileError(outdir, "output directory is the input file", "choose another -o"));
+  return Status::Ok();
+}
+}  // namespace
+
+Status RunPipeline(const RunArgs& args) {
+  const auto t_all = Clock::now();
+  PipelineConfig config;
+  if (!args.config_path.empty()) SEMVOX_RETURN_IF_ERROR(LoadConfigFile(args.config_path, &config));
+  if (!args.up.empty()) config.load.up = args.up == "y" ? UpAxis::kY : args.up == "z" ? UpAxis::kZ : UpAxis::kAuto;
+  if (args.scale > 0) config.load.scale = args.scale;
+  SEMVOX_RETURN_IF_ERROR(CheckConfig(config));
+  SEMVOX_RETURN_IF_ERROR(CheckOutputNotInput(args.input, args.outdir));
+  // Fail on an unwritable OUTDIR before any work.
+  SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(args.outdir));
+
+  nlohmann::ordered_json timing;
+  auto t0 = Clock::now();
+  Result<Scene> scene_or = LoadScene(args.input, config.load);
+  if (!scene_or.ok()) return scene_or.status();
+  const Scene& scene = scene_or.value();
+  timing["load"] = Seconds(t0);
+  SEMVOX_INFO("loaded " << args.input << ": "
+                        << (scene.is_mesh() ? std::to_string(scene.mesh.faces.size()) + " triangles"
+                                            : std::to_string(scene.cloud.points.size()) + " points"));
+
+  t0 = Clock::now();
+  Result<VoxelMap> map_or = Voxelize(scene, config.voxelize);
+  if (!map_or.ok()) return map_or.status();
+  const VoxelMap& map = map_or.value();
+  timing["voxelize"] = Seconds(t0);
+  timing["voxelize_surface"] = map.seconds_surface;
+  timing["voxelize_free_space"] = map.seconds_free_space;
+  const auto counts = map.grid.CountStates();
+  SEMVOX_INFO("voxelised at " << config.voxelize.voxel_size_m << " m: " << counts[2] << " occupied, " << counts[1]
+                              << " free, " << counts[0] << " unknown; " << map.scan_positions.size()
+                              << " scan positions; floor z = " << map.floor_z << ", ceiling z = " << map.ceiling_z);
+
+  t0 = Clock::now();
+  const OccupancyMap occ = ComputeOccupancy(map.grid, map.floor_z, config.occupancy);
+  SEMVOX_RETURN_IF_ERROR(WriteOccupancyMap(occ, args.outdir, "occupancy"));
+  timing["occupancy"] = Seconds(t0);
+  t0 = Clock::now();
+  SEMVOX_RETURN_IF_ERROR(WriteOctomapBinary(map.grid, (fs::path(args.outdir) / "map.bt").string()));
+  timing["octomap"] = Seconds(t0);
+  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(args.outdir) / "config_used.yaml").string(), DumpConfig(config)));
+
+  const Aabb box = scene.Bounds();
+  nlohmann::ordered_json s;
+  s["semvox_version"] = "0.1.0";
+  s["input"] = {{"path", args.input},
+                {"format", scene.format},
+                {"kind", scene.is_mesh() ? "mesh" : "cloud"},
+                {"vertices", scene.is_mesh() ? scene.mesh.vertices.size() : scene.cloud.points.size()},
+                {"faces", scene.mesh.faces.size()},
+                {"has_colors", scene.is_mesh() ? scene.mesh.has_vertex_colors() : scene.cloud.has_colors()},
+                {"has_texture", scene.mesh.has_texture()},
+                {"materials", scene.mesh.materials.size()},
+                {"dropped_non_finite", scene.dropped_non_finite}};
+  s["bounds"] = {{"min", {box.min.x(), box.min.y(), box.min.z()}}, {"max", {box.max.x(), box.max.y(), box.max.z()}}};
+  s["voxel_size_m"] = config.voxelize.voxel_size_m;
+  s["grid"] = {{"dims", map.grid.dims()}, {"origin_key", map.grid.origin_key()}};
+  s["voxels"] = {{"occupied", counts[2]}, {"free", counts[1]}, {"unknown", counts[0]}};
+  s["floor"] = {{"found", map.floor_found}, {"z", map.floor_z}};
+  s["ceiling"] = {{"found", map.ceiling_found}, {"z", map.ceiling_z}};
+  nlohmann::json positions = nlohmann::json::array();
+  for (const auto& p : map.scan_positions) positions.push_back({p.x(), p.y(), p.z()});
+  s["scan_positions"] = positions;
+  s["enclosed"] = map.enclosed;
+  s["rays_cast"] = map.rays_cast;
+  s["occupancy"] = {{"image", "occupancy.pgm"}, {"width", occ.image.width}, {"height", occ.image.height},
+                    {"origin", {occ.origin_x, occ.origin_y}}};
+  s["warnings"] = TakeWarnings();
+  timing["total"] = Seconds(t_all);
+  s["seconds"] = timing;
+  const std::string text = s.dump(2) + "\n";
+  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(args.outdir) / "summary.json").string(), text));
+  if (args.json) std::cout << text;
+  SEMVOX_INFO("outputs in " << args.outdir << " (occupancy.pgm/.yaml, map.bt, summary.json)");
+  return Status::Ok();
+}
+
+}  // namespace semvox

@@ -1,0 +1,96 @@
+#include "io/image_io.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <cstring>
+
+#include "core/file_util.h"
+
+namespace semvox {
+namespace {
+
+ImageRgb8 FromMat(const cv::Mat& m) {
+  cv::Mat rgb;
+  if (m.channels() == 1) {
+    cv::Mat g8;
+    m.convertTo(g8, CV_8U, m.depth() == CV_16U ? 1.0 / 257.0 : 1.0);
+    cv::Mat chans[3] = {g8, g8, g8};
+    cv::merge(chans, 3, rgb);
+  } else {
+    cv::Mat m8;
+    m.convertTo(m8, CV_8U, m.depth() == CV_16U ? 1.0 / 257.0 : 1.0);
+    if (m8.channels() == 4) cv::cvtColor(m8, rgb, cv::COLOR_BGRA2RGB);  // NOLINT
+    else cv::cvtColor(m8, rgb, cv::COLOR_BGR2RGB);
+  }
+  ImageRgb8 img(rgb.cols, rgb.rows, 3);
+  for (int y = 0; y < rgb.rows; ++y) std::memcpy(&img.at(0, y), rgb.ptr(y), size_t(rgb.cols) * 3);
+  return img;
+}
+
+Status Encode(const std::string& path, const cv::Mat& m) {
+  std::string ext = "." + LowerExtension(path);
+  std::vector<uchar> buf;
+  try {
+    if (!cv::imencode(ext, m, buf))
+      return Status::Internal(FileError(path, "image encoding failed", "use .png"));
+  } catch (const cv::Exception& e) {
+    return Status::InvalidInput(FileError(path, "cannot encode image as " + ext, "use .png"));
+  }
+  return WriteFileAtomic(path, std::string(buf.begin(), buf.end()));
+}
+
+}  // namespace
+
+Result<ImageRgb8> DecodeImageRgb8(const std::string& bytes, const std::string& name) {
+  cv::Mat m;
+  try {
+    std::vector<uchar> buf(bytes.begin(), bytes.end());
+    m = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+    m = cv::Mat();
+  }
+  if (m.empty()) return Status::InvalidInput(FileError(name, "cannot decode image", "use PNG or JPEG"));
+  return FromMat(m);
+}
+
+Result<ImageRgb8> ReadImageRgb8(const std::string& path) {
+  std::string bytes;
+  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  return DecodeImageRgb8(bytes, path);
+}
+
+Result<ImageU16> ReadImageU16(const std::string& path) {
+  std::string bytes;
+  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  cv::Mat m;
+  try {
+    std::vector<uchar> buf(bytes.begin(), bytes.end());
+    m = cv::imdecode(buf, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
+  } catch (const cv::Exception&) {
+    m = cv::Mat();
+  }
+  if (m.empty()) return Status::InvalidInput(FileError(path, "cannot decode image", "use an 8- or 16-bit PNG"));
+  cv::Mat m16;
+  m.convertTo(m16, CV_16U);
+  ImageU16 img(m16.cols, m16.rows, 1);
+  for (int y = 0; y < m16.rows; ++y) std::memcpy(&img.at(0, y), m16.ptr(y), size_t(m16.cols) * 2);
+  return img;
+}
+
+Status WriteImage(const std::string& path, const ImageRgb8& image) {
+  if (image.channels == 1) {
+    cv::Mat m(image.height, image.width, CV_8UC1, const_cast<uint8_t*>(image.data.data()));
+    return Encode(path, m);
+  }
+  cv::Mat rgb(image.height, image.width, CV_8UC3, const_cast<uint8_t*>(image.data.data())), bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  return Encode(path, bgr);
+}
+
+Status WriteImage(const std::string& path, const ImageU16& image) {
+  cv::Mat m(image.height, image.width, CV_16UC1, const_cast<uint16_t*>(image.data.data()));
+  return Encode(path, m);
+}
+
+}  // namespace semvox

@@ -1,0 +1,20 @@
+// Image files (PNG, JPEG, ...) through OpenCV, in core image types. Writes are atomic.
+#pragma once
+
+#include <string>
+
+#include "core/image.h"
+#include "core/status.h"
+
+namespace semvox {
+
+Result<ImageRgb8> ReadImageRgb8(const std::string& path);
+Result<ImageRgb8> DecodeImageRgb8(const std::string& bytes, const std::string& name);
+// 8-bit grey or 16-bit single-channel image, as stored (no scaling).
+Result<ImageU16> ReadImageU16(const std::string& path);
+
+// Encodes by extension (.png, .pgm, .jpg) and writes atomically.
+Status WriteImage(const std::string& path, const ImageRgb8& image);  // 3 channels RGB, or 1 channel grey.
+Status WriteImage(const std::string& path, const ImageU16& image);   // 16-bit PNG.
+
+}  // namespace semvox

@@ -1,0 +1,373 @@
+#include "mapping/voxelizer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include "core/log.h"
+#include "mapping/cloud_geometry.h"
+#include "mapping/ray_traversal.h"
+
+namespace semvox {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
+
+// Concurrent writers only ever raise a voxel's state to the same value, so relaxed atomics suffice.
+inline void StoreState(uint8_t* cell, VoxelState s) {
+  std::atomic_ref<uint8_t>(*cell).store(uint8_t(s), std::memory_order_relaxed);
+}
+inline VoxelState LoadState(const uint8_t* cell) {
+  return VoxelState(std::atomic_ref<uint8_t>(*const_cast<uint8_t*>(cell)).load(std::memory_order_relaxed));
+}
+
+// Separating-axis test of a triangle against an axis-aligned box centred at the origin with half size h
+// (Akenine-Möller 2001).
+bool TriangleOverlapsBox(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                         const Eigen::Vector3d& h) {
+  const Eigen::Vector3d e[3] = {b - a, c - b, a - c};
+  const Eigen::Vector3d v[3] = {a, b, c};
+  for (int i = 0; i < 3; ++i) {
+    for (int axis = 0; axis < 3; ++axis) {
+      Eigen::Vector3d u = Eigen::Vector3d::Zero();
+      u[axis] = 1.0;
+      const Eigen::Vector3d l = u.cross(e[i]);
+      const double p0 = l.dot(v[0]), p1 = l.dot(v[1]), p2 = l.dot(v[2]);
+      const double r = h.x() * std::fabs(l.x()) + h.y() * std::fabs(l.y()) + h.z() * std::fabs(l.z());
+      if (std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r) return false;
+    }
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::min({a[axis], b[axis], c[axis]}) > h[axis] || std::max({a[axis], b[axis], c[axis]}) < -h[axis]) return false;
+  }
+  const Eigen::Vector3d n = e[0].cross(e[1]);
+  const double d = n.dot(a);
+  const double r = h.x() * std::fabs(n.x()) + h.y() * std::fabs(n.y()) + h.z() * std::fabs(n.z());
+  return std::fabs(d) <= r;
+}
+
+struct FloorCeiling {
+  bool floor_found = false, ceiling_found = false;
+  double floor_z = 0, ceiling_z = 0;
+};
+
+// Dominant lowest / highest horizontal surfaces from (z, weight) samples of near-horizontal elements.
+FloorCeiling DetectFloorCeiling(const std::vector<std::pair<double, double>>& samples, double bin_m,
+                                double min_floor_to_ceiling_m) {
+  FloorCeiling fc;
+  if (samples.empty()) return fc;
+  double zmin = samples[0].first, zmax = zmin;
+  for (const auto& [z, w] : samples) zmin = std::min(zmin, z), zmax = std::max(zmax, z);
+  const int nb = int(std::floor((zmax - zmin) / bin_m)) + 1;
+  std::vector<double> area(nb, 0.0), zsum(nb, 0.0);
+  for (const auto& [z, w] : samples) {
+    const int b = std::clamp(int(std::floor((z - zmin) / bin_m)), 0, nb - 1);
+    area[b] += w;
+    zsum[b] += w * z;
+  }
+  const double peak = *std::max_element(area.begin(), area.end());
+  if (peak <= 0) return fc;
+  // Floor: the lowest bin holding at least 30% of the largest horizontal bin's area.
+  int fb = -1;
+  for (int b = 0; b < nb; ++b)
+    if (area[b] >= 0.3 * peak) { fb = b; break; }
+  if (fb < 0) return fc;
+  // Merge the neighbour bins of the peak (a plane straddling a bin edge).
+  auto refined = [&](int b) {
+    double a = 0, s = 0;
+    for (int k = std::max(0, b - 1); k <= std::min(nb - 1, b + 1); ++k) a += area[k], s += zsum[k];
+    return s / a;
+  };
+  fc.floor_found = true;
+  fc.floor_z = refined(fb);
+  // Ceiling: the highest bin with at least 10% of the floor's area, far enough above the floor.
+  const double floor_area = area[fb];
+  for (int b = nb - 1; b > fb; --b) {
+    const double z = zmin + (b + 0.5) * bin_m;
+    if (z - fc.floor_z < min_floor_to_ceiling_m) break;
+    if (area[b] >= 0.1 * floor_area) {
+      fc.ceiling_found = true;
+      fc.ceiling_z = refined(b);
+      break;
+    }
+  }
+  return fc;
+}
+
+// First occupied voxel along a ray within `range` (cells), or -1.
+double DistanceToOccupied(const VoxelGrid& grid, const Eigen::Vector3d& from, const Eigen::Vector3d& dir, double range) {
+  const Eigen::Vector3f o = from.cast<float>();
+  const Eigen::Vector3f e = (from + dir * range).cast<float>();
+  double hit = -1;
+  const auto& ok = grid.origin_key();
+  TraverseKeys(o, e, grid.resolution(), [&](int64_t kx, int64_t ky, int64_t kz) {
+    const int ix = int(kx - ok[0]), iy = int(ky - ok[1]), iz = int(kz - ok[2]);
+    if (!grid.Contains(ix, iy, iz)) return false;
+    if (grid.state(grid.Index(ix, iy, iz)) == VoxelState::kOccupied) {
+      hit = (grid.CellCenter(ix, iy, iz) - from).norm();
+      return false;
+    }
+    return true;
+  });
+  return hit;
+}
+
+}  // namespace
+
+bool VoxelizeOptions::Check(std::string* error) const {
+  auto fail = [&](const std::string& field, double value, const std::string& constraint) {
+    *error = field + " = " + std::to_string(value) + ". Violated constraint: " + constraint;
+    return false;
+  };
+  if (!(voxel_size_m >= 0.005 && voxel_size_m <= 1.0)) return fail("voxel_size_m", voxel_size_m, "0.005 <= voxel_size_m <= 1");
+  if (!(scan_spacing_m > 0)) return fail("scan_spacing_m", scan_spacing_m, "scan_spacing_m > 0");
+  if (!(scan_height_m > 0)) return fail("scan_height_m", scan_height_m, "scan_height_m > 0");
+  if (!(scan_clearance_m >= 0)) return fail("scan_clearance_m", scan_clearance_m, "scan_clearance_m >= 0");
+  if (!(max_range_m > 0)) return fail("max_range_m", max_range_m, "max_range_m > 0");
+  if (enclosure_directions < 4) return fail("enclosure_directions", enclosure_directions, "enclosure_directions >= 4");
+  if (!(min_enclosed_fraction >= 0 && min_enclosed_fraction <= 1))
+    return fail("min_enclosed_fraction", min_enclosed_fraction, "0 <= min_enclosed_fraction <= 1");
+  if (!(horizontal_normal_deg > 0 && horizontal_normal_deg < 90))
+    return fail("horizontal_normal_deg", horizontal_normal_deg, "0 < horizontal_normal_deg < 90");
+  if (max_voxels < 1) return fail("max_voxels", double(max_voxels), "max_voxels >= 1");
+  if (cloud_normal_neighbors < 3) return fail("cloud_normal_neighbors", cloud_normal_neighbors, "cloud_normal_neighbors >= 3");
+  return true;
+}
+
+Status PlanGrid(const Aabb& box, const VoxelizeOptions& options, VoxelGrid* grid) {
+  const double res = options.voxel_size_m;
+  std::array<int64_t, 3> lo, hi;
+  for (int i = 0; i < 3; ++i) {
+    lo[i] = CoordToKeyIndex(box.min[i], res) - 1;
+    hi[i] = CoordToKeyIndex(box.max[i], res) + 1;
+    if (!KeyIndexInRange(lo[i]) || !KeyIndexInRange(hi[i]))
+      return Status::InvalidInput("the scene spans " + std::to_string(box.min[i]) + " .. " + std::to_string(box.max[i]) +
+                                  " m on axis " + "xyz"[i] + ", beyond OctoMap's key range at " + std::to_string(res) +
+                                  " m voxels (hint: check units with --scale, or use larger voxels)");
+  }
+  const std::array<int, 3> dims = {int(hi[0] - lo[0] + 1), int(hi[1] - lo[1] + 1), int(hi[2] - lo[2] + 1)};
+  const double count = double(dims[0]) * dims[1] * dims[2];
+  if (count > double(options.max_voxels))
+    return Status::InvalidInput("the voxel grid would hold " + std::to_string(size_t(count)) + " voxels (" +
+                                std::to_string(dims[0]) + " x " + std::to_string(dims[1]) + " x " +
+                                std::to_string(dims[2]) + ", about " + std::to_string(size_t(count * 4 / 1e6)) +
+                                " MB), over max_voxels = " + std::to_string(options.max_voxels) +
+                                " (hint: raise --max-voxels, use larger voxels, or check the units with --scale)");
+  *grid = VoxelGrid(res, {int(lo[0]), int(lo[1]), int(lo[2])}, dims);
+  return Status::Ok();
+}
+
+void VoxelizeMeshSurface(const Mesh& mesh, VoxelGrid* grid) {
+  const double res = grid->resolution();
+  // Half-open cells: each box is shifted down by a hair, [lo - eps, hi - eps], so a surface lying exactly
+  // on a cell boundary belongs to the cell above it, as OctoMap's coordToKey (floor) assigns points, and
+  // rounding in the cell centres cannot make such a surface miss both cells.
+  const double eps = 1e-4 * res;
+  const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.5 * res);
+  uint8_t* state = grid->state_data();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.faces.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t f = r.begin(); f != r.end(); ++f) {
+      const Eigen::Vector3i& t = mesh.faces[f];
+      const Eigen::Vector3d a = mesh.vertices[t[0]].cast<double>(), b = mesh.vertices[t[1]].cast<double>(),
+                            c = mesh.vertices[t[2]].cast<double>();
+      if ((b - a).cross(c - a).squaredNorm() <= 0.0) continue;  // Degenerate.
+      const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+      const auto clo = grid->CellOf(lo + Eigen::Vector3d::Constant(eps)), chi = grid->CellOf(hi + Eigen::Vector3d::Constant(eps));
+      for (int iz = std::max(0, clo[2]); iz <= std::min(grid->dims()[2] - 1, chi[2]); ++iz)
+        for (int iy = std::max(0, clo[1]); iy <= std::min(grid->dims()[1] - 1, chi[1]); ++iy)
+          for (int ix = std::max(0, clo[0]); ix <= std::min(grid->dims()[0] - 1, chi[0]); ++ix) {
+            const size_t idx = grid->Index(ix, iy, iz);
+            if (LoadState(state + idx) == VoxelState::kOccupied) continue;
+            const Eigen::Vector3d centre = grid->CellCenter(ix, iy, iz) - Eigen::Vector3d::Constant(eps);
+            if (TriangleOverlapsBox(a - centre, b - centre, c - centre, half)) StoreState(state + idx, VoxelState::kOccupied);
+          }
+    }
+  });
+}
+
+void VoxelizeCloudSurface(const PointCloud& cloud, const std::vector<Eigen::Vector3f>& normals,
+                          const std::vector<float>& spacing, VoxelGrid* grid) {
+  const double res = grid->resolution();
+  uint8_t* state = grid->state_data();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, cloud.points.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const Eigen::Vector3d p = cloud.points[i].cast<double>();
+      auto mark = [&](const Eigen::Vector3d& q) {
+        const auto c = grid->CellOf(q);
+        if (grid->Contains(c[0], c[1], c[2])) StoreState(state + grid->Index(c[0], c[1], c[2]), VoxelState::kOccupied);
+      };
+      mark(p);
+      const double radius = spacing.empty() ? 0.0 : std::min<double>(spacing[i], 3.0 * res);
+      if (radius <= 0.5 * res || normals.empty()) continue;
+      // Disc in the tangent plane, sampled at half-voxel steps.
+      const Eigen::Vector3d n = normals[i].cast<double>();
+      Eigen::Vector3d u = std::fabs(n.z()) < 0.9 ? n.cross(Eigen::Vector3d::UnitZ()) : n.cross(Eigen::Vector3d::UnitX());
+      u.normalize();
+      const Eigen::Vector3d v = n.cross(u);
+      const double step = 0.5 * res;
+      const int k = int(std::ceil(radius / step));
+      for (int a = -k; a <= k; ++a)
+        for (int b = -k; b <= k; ++b) {
+          const double da = a * step, db = b * step;
+          if (da * da + db * db <= radius * radius) mark(p + da * u + db * v);
+        }
+    }
+  });
+}
+
+size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_range_m, VoxelGrid* grid) {
+  std::vector<size_t> occupied;
+  for (size_t i = 0; i < grid->size(); ++i)
+    if (grid->state(i) == VoxelState::kOccupied) occupied.push_back(i);
+  uint8_t* state = grid->state_data();
+  const auto& ok = grid->origin_key();
+  const double res = grid->resolution();
+  std::atomic<size_t> rays{0};
+  for (const Eigen::Vector3d& pos : positions) {
+    const Eigen::Vector3f origin = pos.cast<float>();
+    const auto oc = grid->CellOf(pos);
+    if (grid->Contains(oc[0], oc[1], oc[2]) && grid->state(grid->Index(oc[0], oc[1], oc[2])) != VoxelState::kOccupied)
+      StoreState(state + grid->Index(oc[0], oc[1], oc[2]), VoxelState::kFree);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, occupied.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
+      size_t local = 0;
+      for (size_t j = r.begin(); j != r.end(); ++j) {
+        const auto cell = grid->Cell(occupied[j]);
+        const Eigen::Vector3d target = grid->CellCenter(cell[0], cell[1], cell[2]);
+        if ((target - pos).squaredNorm() > max_range_m * max_range_m) continue;
+        ++local;
+        // Extend the segment half a voxel past the target centre so the target cell is entered.
+        const Eigen::Vector3d dir = (target - pos).normalized();
+        const Eigen::Vector3f end = (target + dir * (0.5 * res)).cast<float>();
+        TraverseKeys(origin, end, res, [&](int64_t kx, int64_t ky, int64_t kz) {
+          const int ix = int(kx - ok[0]), iy = int(ky - ok[1]), iz = int(kz - ok[2]);
+          if (!grid->Contains(ix, iy, iz)) return false;
+          uint8_t* cellp = state + grid->Index(ix, iy, iz);
+          const VoxelState s = LoadState(cellp);
+          if (s == VoxelState::kOccupied) return false;
+          if (s == VoxelState::kUnknown) StoreState(cellp, VoxelState::kFree);
+          return true;
+        });
+      }
+      rays += local;
+    });
+  }
+  return rays.load();
+}
+
+Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options) {
+  std::string error;
+  if (!options.Check(&error)) return Status::InvalidInput(error);
+  VoxelMap map;
+  const Aabb box = scene.Bounds();
+  if (!box.valid()) return Status::InvalidInput(FileError(scene.source_path, "scene has no geometry", ""));
+  SEMVOX_RETURN_IF_ERROR(PlanGrid(box, options, &map.grid));
+  VoxelGrid& grid = map.grid;
+  const double res = options.voxel_size_m;
+
+  // 1. Surface voxels and horizontal-surface samples for floor / ceiling detection.
+  auto t0 = Clock::now();
+  const double cos_h = std::cos(options.horizontal_normal_deg * M_PI / 180.0);
+  std::vector<std::pair<double, double>> horizontal;  // (z, area)
+  if (scene.is_mesh()) {
+    VoxelizeMeshSurface(scene.mesh, &grid);
+    for (const auto& t : scene.mesh.faces) {
+      const Eigen::Vector3d a = scene.mesh.vertices[t[0]].cast<double>(), b = scene.mesh.vertices[t[1]].cast<double>(),
+                            c = scene.mesh.vertices[t[2]].cast<double>();
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      const double area2 = n.norm();
+      if (area2 <= 0) continue;
+      if (std::fabs(n.z()) / area2 >= cos_h) horizontal.push_back({(a.z() + b.z() + c.z()) / 3.0, 0.5 * area2});
+    }
+  } else {
+    CloudGeometry geo = EstimateCloudGeometry(scene.cloud, options.cloud_normal_neighbors);
+    const std::vector<Eigen::Vector3f>& normals = scene.cloud.normals.empty() ? geo.normals : scene.cloud.normals;
+    VoxelizeCloudSurface(scene.cloud, normals, geo.spacing, &grid);
+    for (size_t i = 0; i < scene.cloud.points.size(); ++i)
+      if (std::fabs(normals[i].z()) >= cos_h) {
+        const double s = std::max<double>(geo.spacing[i], 1e-3);
+        horizontal.push_back({scene.cloud.points[i].z(), s * s});
+      }
+  }
+  map.seconds_surface = Seconds(t0);
+  const auto counts = grid.CountStates();
+  if (counts[2] == 0)
+    return Status::InvalidInput(FileError(scene.source_path, "no surface voxels (only degenerate triangles?)",
+                                          "the input holds no usable surface"));
+
+  // 2. Floor and ceiling.
+  t0 = Clock::now();
+  FloorCeiling fc = DetectFloorCeiling(horizontal, res, options.min_floor_to_ceiling_m);
+  map.floor_found = fc.floor_found;
+  map.ceiling_found = fc.ceiling_found;
+  map.floor_z = fc.floor_found ? fc.floor_z : box.min.z();
+  map.ceiling_z = fc.ceiling_found ? fc.ceiling_z : box.max.z();
+  if (!fc.floor_found)
+    SEMVOX_WARN(scene.source_path << ": no floor found (no dominant horizontal surface); heights are relative to the "
+                                     "lowest point, z = " << map.floor_z);
+  if (!fc.ceiling_found)
+    SEMVOX_INFO(scene.source_path << ": no ceiling found; using the top of the scan, z = " << map.ceiling_z);
+  map.seconds_floor = Seconds(t0);
+
+  // 3. Scan positions: a grid at scanner height, clear of surfaces, above a floor, enclosed by surfaces.
+  t0 = Clock::now();
+  double z = map.floor_z + options.scan_height_m;
+  if (map.ceiling_z - map.floor_z > 0.2 && z > map.ceiling_z - options.scan_clearance_m - res)
+    z = 0.5 * (map.floor_z + map.ceiling_z);
+  auto choose_positions = [&](double spacing, bool require_enclosure) {
+    std::vector<Eigen::Vector3d> out;
+    const int nx = std::max(1, int(std::floor((box.max.x() - box.min.x()) / spacing)) + 1);
+    const int ny = std::max(1, int(std::floor((box.max.y() - box.min.y()) / spacing)) + 1);
+    const double x0 = 0.5 * (box.min.x() + box.max.x()) - 0.5 * (nx - 1) * spacing;
+    const double y0 = 0.5 * (box.min.y() + box.max.y()) - 0.5 * (ny - 1) * spacing;
+    const int clear = int(std::ceil(options.scan_clearance_m / res));
+    std::vector<char> keep(size_t(nx) * ny, 0);
+    tbb::parallel_for(0, nx * ny, [&](int k) {
+      const Eigen::Vector3d p(x0 + (k % nx) * spacing, y0 + (k / nx) * spacing, z);
+      const auto c = grid.CellOf(p);
+      if (!grid.Contains(c[0], c[1], c[2])) return;
+      for (int dz = -clear; dz <= clear; ++dz)
+        for (int dy = -clear; dy <= clear; ++dy)
+          for (int dx = -clear; dx <= clear; ++dx) {
+            if ((dx * dx + dy * dy + dz * dz) * res * res > options.scan_clearance_m * options.scan_clearance_m) continue;
+            const int x = c[0] + dx, y = c[1] + dy, zz = c[2] + dz;
+            if (grid.Contains(x, y, zz) && grid.state(grid.Index(x, y, zz)) == VoxelState::kOccupied) return;
+          }
+      if (DistanceToOccupied(grid, p, -Eigen::Vector3d::UnitZ(), z - box.min.z() + 2 * res) < 0) return;
+      if (require_enclosure) {
+        int hits = 0;
+        for (int d = 0; d < options.enclosure_directions; ++d) {
+          const double ang = 2.0 * M_PI * d / options.enclosure_directions;
+          hits += DistanceToOccupied(grid, p, Eigen::Vector3d(std::cos(ang), std::sin(ang), 0), options.max_range_m) >= 0;
+        }
+        if (hits < options.min_enclosed_fraction * options.enclosure_directions) return;
+      }
+      keep[k] = 1;
+    });
+    for (int k = 0; k < nx * ny; ++k)
+      if (keep[k]) out.emplace_back(x0 + (k % nx) * spacing, y0 + (k / nx) * spacing, z);
+    return out;
+  };
+  map.scan_positions = choose_positions(options.scan_spacing_m, true);
+  if (map.scan_positions.empty()) map.scan_positions = choose_positions(0.5 * options.scan_spacing_m, true);
+  if (map.scan_positions.empty()) {
+    map.enclosed = false;
+    map.scan_positions = choose_positions(0.5 * options.scan_spacing_m, false);
+    if (!map.scan_positions.empty())
+      SEMVOX_WARN(scene.source_path << ": the scan does not look like an enclosed interior; free space is computed "
+                                       "from positions above the floor without walls around them");
+  }
+  if (map.scan_positions.empty())
+    SEMVOX_WARN(scene.source_path << ": no virtual scan position fits in the scanned space; all non-surface voxels "
+                                     "stay unknown");
+  map.rays_cast = CastFreeSpace(map.scan_positions, options.max_range_m, &grid);
+  map.seconds_free_space = Seconds(t0);
+  return map;
+}
+
+}  // namespace semvox

@@ -1,0 +1,67 @@
+// Voxelisation of a scanned scene into free / occupied / unknown space (the mapping stage).
+//
+//   Scene --Voxelize--> VoxelMap
+//
+// Occupied voxels are those the surface passes through (exact triangle-box overlap for meshes, points
+// splatted as small discs for clouds). Free voxels are those a scanner standing at virtual scan positions
+// inside the scanned space would see through: rays are cast from each position towards every occupied
+// voxel within range and stop at the first occupied voxel. Everything else stays unknown (inside walls,
+// behind and under furniture, outside the apartment). Floor and ceiling are the dominant lowest / highest
+// horizontal surfaces.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/geometry.h"
+#include "core/status.h"
+#include "core/voxel_grid.h"
+
+namespace semvox {
+
+struct VoxelizeOptions {
+  double voxel_size_m = 0.05;          // Edge of a voxel (OctoMap resolution), metres. Range [0.005, 1].
+  double scan_spacing_m = 1.0;         // Spacing of the grid of candidate scan positions, metres. > 0.
+  double scan_height_m = 1.5;          // Scanner height above the floor (clamped below the ceiling), metres.
+  double scan_clearance_m = 0.3;       // No occupied voxel within this distance of a scan position, metres.
+  double max_range_m = 10.0;           // Scanner range, metres. > 0.
+  int enclosure_directions = 16;       // Horizontal test rays per candidate position.
+  double min_enclosed_fraction = 0.75; // Fraction of them that must hit a surface within range. [0, 1].
+  double horizontal_normal_deg = 10.0; // Surfaces within this angle of horizontal count for floor/ceiling.
+  double min_floor_to_ceiling_m = 1.8; // A ceiling candidate must be at least this far above the floor.
+  size_t max_voxels = 400'000'000;     // Refuse grids with more voxels than this (memory guard).
+  int cloud_normal_neighbors = 12;     // k for PCA normals of clouds without normals.
+
+  bool Check(std::string* error) const;
+};
+
+struct VoxelMap {
+  VoxelGrid grid;
+  bool floor_found = false;
+  double floor_z = 0.0;     // Metres, input frame.
+  bool ceiling_found = false;
+  double ceiling_z = 0.0;
+  std::vector<Eigen::Vector3d> scan_positions;
+  bool enclosed = true;     // False when no candidate passed the enclosure test (degraded input).
+  size_t rays_cast = 0;
+  double seconds_surface = 0, seconds_floor = 0, seconds_free_space = 0;
+};
+
+// Returns the grid bounds (keys) covering `box` with one voxel of margin, or an error when it exceeds
+// options.max_voxels or the OctoMap key range.
+Status PlanGrid(const Aabb& box, const VoxelizeOptions& options, VoxelGrid* grid);
+
+Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options);
+
+// Building blocks, exposed for tests and benchmarks.
+// Marks the voxels each triangle passes through as occupied (exact triangle/box overlap, half-open cells).
+void VoxelizeMeshSurface(const Mesh& mesh, VoxelGrid* grid);
+// Marks point voxels as occupied; where the local spacing exceeds half a voxel a point becomes a disc
+// of that radius in its tangent plane. `normals` may be empty.
+void VoxelizeCloudSurface(const PointCloud& cloud, const std::vector<Eigen::Vector3f>& normals,
+                          const std::vector<float>& spacing, VoxelGrid* grid);
+// Marks free voxels seen from `positions`. Returns the number of rays cast.
+size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_range_m, VoxelGrid* grid);
+
+}  // namespace semvox
