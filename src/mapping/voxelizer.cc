@@ -58,42 +58,58 @@ struct FloorCeiling {
 };
 
 // Dominant lowest / highest horizontal surfaces from (z, weight) samples of near-horizontal elements.
-FloorCeiling DetectFloorCeiling(const std::vector<std::pair<double, double>>& samples, double bin_m,
+// Area histogram of horizontal surfaces over height, in bins of `bin_m`.
+struct HeightHistogram {
+  double zmin = 0, bin = 0.05;
+  std::vector<double> area, zsum;
+  HeightHistogram(const std::vector<std::pair<double, double>>& samples, double zlo, double zhi, double bin_m)
+      : zmin(zlo), bin(bin_m) {
+    const int nb = int(std::floor((zhi - zlo) / bin_m)) + 1;
+    area.assign(nb, 0.0);
+    zsum.assign(nb, 0.0);
+    for (const auto& [z, w] : samples) {
+      const int b = std::clamp(int(std::floor((z - zmin) / bin_m)), 0, nb - 1);
+      area[b] += w;
+      zsum[b] += w * z;
+    }
+  }
+  int size() const { return int(area.size()); }
+  double Centre(int b) const { return zmin + (b + 0.5) * bin; }
+  // Area-weighted height over the bin and its neighbours (a plane straddling a bin edge).
+  double Refined(int b) const {
+    double a = 0, s = 0;
+    for (int k = std::max(0, b - 1); k <= std::min(size() - 1, b + 1); ++k) a += area[k], s += zsum[k];
+    return s / a;
+  }
+};
+
+// Floor: the lowest bin of upward-facing area holding at least 30% of the largest such bin. Ceiling: the
+// highest bin of downward-facing area with at least 10% of the floor's area, far enough above the floor.
+// Orientation tells a floor slab's top from its underside; clouds (unoriented normals) pass the same
+// samples for both.
+FloorCeiling DetectFloorCeiling(const std::vector<std::pair<double, double>>& up,
+                                const std::vector<std::pair<double, double>>& down, double bin_m,
                                 double min_floor_to_ceiling_m) {
   FloorCeiling fc;
-  if (samples.empty()) return fc;
-  double zmin = samples[0].first, zmax = zmin;
-  for (const auto& [z, w] : samples) zmin = std::min(zmin, z), zmax = std::max(zmax, z);
-  const int nb = int(std::floor((zmax - zmin) / bin_m)) + 1;
-  std::vector<double> area(nb, 0.0), zsum(nb, 0.0);
-  for (const auto& [z, w] : samples) {
-    const int b = std::clamp(int(std::floor((z - zmin) / bin_m)), 0, nb - 1);
-    area[b] += w;
-    zsum[b] += w * z;
-  }
-  const double peak = *std::max_element(area.begin(), area.end());
+  if (up.empty()) return fc;
+  double zmin = up[0].first, zmax = zmin;
+  for (const auto* v : {&up, &down})
+    for (const auto& [z, w] : *v) zmin = std::min(zmin, z), zmax = std::max(zmax, z);
+  const HeightHistogram hu(up, zmin, zmax, bin_m), hd(down, zmin, zmax, bin_m);
+  const double peak = *std::max_element(hu.area.begin(), hu.area.end());
   if (peak <= 0) return fc;
-  // Floor: the lowest bin holding at least 30% of the largest horizontal bin's area.
   int fb = -1;
-  for (int b = 0; b < nb; ++b)
-    if (area[b] >= 0.3 * peak) { fb = b; break; }
+  for (int b = 0; b < hu.size(); ++b)
+    if (hu.area[b] >= 0.3 * peak) { fb = b; break; }
   if (fb < 0) return fc;
-  // Merge the neighbour bins of the peak (a plane straddling a bin edge).
-  auto refined = [&](int b) {
-    double a = 0, s = 0;
-    for (int k = std::max(0, b - 1); k <= std::min(nb - 1, b + 1); ++k) a += area[k], s += zsum[k];
-    return s / a;
-  };
   fc.floor_found = true;
-  fc.floor_z = refined(fb);
-  // Ceiling: the highest bin with at least 10% of the floor's area, far enough above the floor.
-  const double floor_area = area[fb];
-  for (int b = nb - 1; b > fb; --b) {
-    const double z = zmin + (b + 0.5) * bin_m;
-    if (z - fc.floor_z < min_floor_to_ceiling_m) break;
-    if (area[b] >= 0.1 * floor_area) {
+  fc.floor_z = hu.Refined(fb);
+  const double floor_area = hu.area[fb];
+  for (int b = hd.size() - 1; b > fb; --b) {
+    if (hd.Centre(b) - fc.floor_z < min_floor_to_ceiling_m) break;
+    if (hd.area[b] >= 0.1 * floor_area) {
       fc.ceiling_found = true;
-      fc.ceiling_z = refined(b);
+      fc.ceiling_z = hd.Refined(b);
       break;
     }
   }
@@ -273,7 +289,7 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options) {
   // 1. Surface voxels and horizontal-surface samples for floor / ceiling detection.
   auto t0 = Clock::now();
   const double cos_h = std::cos(options.horizontal_normal_deg * M_PI / 180.0);
-  std::vector<std::pair<double, double>> horizontal;  // (z, area)
+  std::vector<std::pair<double, double>> up, down;  // (z, area) of upward / downward-facing surfaces.
   if (scene.is_mesh()) {
     VoxelizeMeshSurface(scene.mesh, &grid);
     for (const auto& t : scene.mesh.faces) {
@@ -282,7 +298,14 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options) {
       const Eigen::Vector3d n = (b - a).cross(c - a);
       const double area2 = n.norm();
       if (area2 <= 0) continue;
-      if (std::fabs(n.z()) / area2 >= cos_h) horizontal.push_back({(a.z() + b.z() + c.z()) / 3.0, 0.5 * area2});
+      const double nz = n.z() / area2, z = (a.z() + b.z() + c.z()) / 3.0;
+      if (nz >= cos_h) up.push_back({z, 0.5 * area2});
+      if (nz <= -cos_h) down.push_back({z, 0.5 * area2});
+    }
+    // Meshes with inconsistent winding: fall back to unoriented surfaces.
+    if (up.empty() || down.empty()) {
+      up.insert(up.end(), down.begin(), down.end());
+      down = up;
     }
   } else {
     CloudGeometry geo = EstimateCloudGeometry(scene.cloud, options.cloud_normal_neighbors);
@@ -291,8 +314,9 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options) {
     for (size_t i = 0; i < scene.cloud.points.size(); ++i)
       if (std::fabs(normals[i].z()) >= cos_h) {
         const double s = std::max<double>(geo.spacing[i], 1e-3);
-        horizontal.push_back({scene.cloud.points[i].z(), s * s});
+        up.push_back({scene.cloud.points[i].z(), s * s});
       }
+    down = up;  // PCA normals carry no orientation.
   }
   map.seconds_surface = Seconds(t0);
   const auto counts = grid.CountStates();
@@ -302,7 +326,7 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options) {
 
   // 2. Floor and ceiling.
   t0 = Clock::now();
-  FloorCeiling fc = DetectFloorCeiling(horizontal, res, options.min_floor_to_ceiling_m);
+  FloorCeiling fc = DetectFloorCeiling(up, down, res, options.min_floor_to_ceiling_m);
   map.floor_found = fc.floor_found;
   map.ceiling_found = fc.ceiling_found;
   map.floor_z = fc.floor_found ? fc.floor_z : box.min.z();

@@ -1,0 +1,45 @@
+#include "apps/config.h"
+
+#include <gtest/gtest.h>
+
+namespace semvox {
+namespace {
+
+TEST(Config, AppliesKnownKeys) {
+  PipelineConfig c;
+  ASSERT_TRUE(ParseConfig("input:\n  up: y\n  scale: 0.001\nmapping:\n  voxel_size_m: 0.02\n", "c.yaml", &c).ok());
+  EXPECT_EQ(c.load.up, UpAxis::kY);
+  EXPECT_DOUBLE_EQ(c.load.scale, 0.001);
+  EXPECT_DOUBLE_EQ(c.voxelize.voxel_size_m, 0.02);
+}
+
+TEST(Config, ErrorsNameTheKeyAndTheRange) {
+  PipelineConfig c;
+  Status st = ParseConfig("mapping:\n  voxel_sise_m: 0.02\n", "c.yaml", &c);
+  EXPECT_EQ(st.code(), StatusCode::kInvalidInput);
+  EXPECT_NE(st.message().find("unknown key 'mapping.voxel_sise_m'"), std::string::npos) << st.message();
+  st = ParseConfig("mapping:\n  voxel_size_m: 3\n", "c.yaml", &c);
+  EXPECT_NE(st.message().find("mapping.voxel_size_m = 3. Allowed range: [0.005, 1]"), std::string::npos) << st.message();
+  st = ParseConfig("mapping:\n  enclosure_directions: 4.5\n", "c.yaml", &c);
+  EXPECT_NE(st.message().find("must be an integer"), std::string::npos) << st.message();
+  st = ParseConfig("input:\n  up: x\n", "c.yaml", &c);
+  EXPECT_NE(st.message().find("Allowed: auto, z, y"), std::string::npos) << st.message();
+  st = ParseConfig("rendering:\n  a: 1\n", "c.yaml", &c);
+  EXPECT_NE(st.message().find("unknown section 'rendering'"), std::string::npos) << st.message();
+  st = ParseConfig("occupancy:\n  band_min_above_floor_m: 2\n", "c.yaml", &c);
+  EXPECT_NE(st.message().find("band_max_above_floor_m"), std::string::npos) << st.message();
+  st = ParseConfig("mapping: [1, 2\n", "c.yaml", &c);
+  EXPECT_NE(st.message().find("invalid YAML"), std::string::npos) << st.message();
+}
+
+TEST(Config, DumpParsesBackToTheSameConfiguration) {
+  PipelineConfig a;
+  a.voxelize.voxel_size_m = 0.03;
+  a.load.up = UpAxis::kZ;
+  PipelineConfig b;
+  ASSERT_TRUE(ParseConfig(DumpConfig(a), "dump.yaml", &b).ok());
+  EXPECT_EQ(DumpConfig(a), DumpConfig(b));
+}
+
+}  // namespace
+}  // namespace semvox
