@@ -1,0 +1,105 @@
+// Room segmentation on the ipa_room_segmentation test maps (Bormann et al., ICRA 2016), scored with
+// their recall / precision, per map and mean, for each method, on the plain and the furnished maps.
+//
+//   rooms_bench [--data DIR] [--method NAME]... [--KEY VALUE]...
+//
+// DIR defaults to <source>/../shared/data/ipa_room_seg/test_maps. KEY is a RoomSegmentationOptions or
+// FloorPlanOptions field (saddle_ratio, min_room_radius_m, door_max_width_m, min_room_area_m2,
+// max_room_area_m2, clutter_max_area_m2, max_speck_distance_m). Timing covers floor plan + segmentation.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "rooms/floor_plan.h"
+#include "rooms/room_score.h"
+#include "rooms/room_segmentation.h"
+
+namespace fs = std::filesystem;
+using namespace semvox;
+
+int main(int argc, char** argv) {
+  std::string data = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/ipa_room_seg/test_maps";
+  std::vector<std::string> methods;
+  RoomSegmentationOptions seg;
+  FloorPlanOptions fp;
+  bool per_map = true;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) std::fprintf(stderr, "rooms_bench: %s needs a value\n", a.c_str()), std::exit(2);
+      return argv[++i];
+    };
+    if (a == "--data") data = next();
+    else if (a == "--method") methods.push_back(next());
+    else if (a == "--brief") per_map = false;
+    else if (a == "--saddle_ratio") seg.saddle_ratio = std::atof(next().c_str());
+    else if (a == "--min_room_radius_m") seg.min_room_radius_m = std::atof(next().c_str());
+    else if (a == "--door_max_width_m") seg.door_max_width_m = std::atof(next().c_str());
+    else if (a == "--min_room_area_m2") seg.min_room_area_m2 = std::atof(next().c_str());
+    else if (a == "--max_room_area_m2") seg.max_room_area_m2 = std::atof(next().c_str());
+    else if (a == "--max_speck_distance_m") seg.max_speck_distance_m = std::atof(next().c_str());
+    else if (a == "--clutter_max_area_m2") fp.clutter_max_area_m2 = std::atof(next().c_str());
+    else if (a == "--no_fill_clutter") seg.fill_clutter = false;
+    else {
+      std::fprintf(stderr, "rooms_bench: unknown argument %s\n", a.c_str());
+      return 2;
+    }
+  }
+  if (methods.empty()) methods = RoomSegmentationMethodNames();
+  std::string error;
+  if (!seg.Check(&error) || !fp.Check(&error)) {
+    std::fprintf(stderr, "rooms_bench: %s\n", error.c_str());
+    return 2;
+  }
+  std::vector<std::string> maps;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(data, ec)) {
+    const std::string name = e.path().filename().string();
+    const std::string suffix = "_gt_segmentation.png";
+    if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+      maps.push_back(name.substr(0, name.size() - suffix.size()));
+  }
+  if (maps.empty()) {
+    std::fprintf(stderr, "rooms_bench: no *_gt_segmentation.png in %s (hint: --data DIR)\n", data.c_str());
+    return 2;
+  }
+  std::sort(maps.begin(), maps.end());
+  std::printf("# ipa_room_seg test maps: %zu; recall / precision as Bormann et al. 2016; seconds = floor plan + rooms\n",
+              maps.size());
+  for (const std::string& method_name : methods) {
+    RoomSegmentationOptions o = seg;
+    if (!ParseRoomSegmentationMethod(method_name, &o.method)) {
+      std::fprintf(stderr, "rooms_bench: unknown method %s\n", method_name.c_str());
+      return 2;
+    }
+    for (const char* variant : {"", "_furnitures"}) {
+      double sr = 0, sp = 0, ss = 0;
+      for (const std::string& m : maps) {
+        auto gt_grey = ReadGreyMap(data + "/" + m + "_gt_segmentation.png");
+        auto map_grey = ReadGreyMap(data + "/" + m + variant + ".png");
+        if (!gt_grey.ok() || !map_grey.ok()) {
+          std::fprintf(stderr, "rooms_bench: %s\n", (gt_grey.ok() ? map_grey.status() : gt_grey.status()).message().c_str());
+          return 2;
+        }
+        const ImageU16 gt = GroundTruthRoomsFromImage(gt_grey.value());
+        const auto t0 = std::chrono::steady_clock::now();
+        const FloorPlan plan = FloorPlanFromImage(map_grey.value(), 0.05, fp);
+        const RoomSegmentation rooms = SegmentRooms(plan, o);
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const RoomScore score = ScoreRooms(rooms.room_ids, gt);
+        if (per_map)
+          std::printf("%-14s %-28s recall %.3f precision %.3f rooms %3d (gt %3d) %.3f s\n", method_name.c_str(),
+                      (m + variant).c_str(), score.recall, score.precision, score.num_predicted_rooms,
+                      score.num_ground_truth_rooms, s);
+        sr += score.recall, sp += score.precision, ss += s;
+      }
+      const double n = double(maps.size());
+      std::printf("MEAN %-14s %-11s recall %.3f precision %.3f  %.3f s/map\n", method_name.c_str(),
+                  *variant ? "furnished" : "plain", sr / n, sp / n, ss / n);
+    }
+  }
+  return 0;
+}

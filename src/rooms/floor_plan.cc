@@ -1,0 +1,161 @@
+#include "rooms/floor_plan.h"
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+namespace semvox {
+namespace {
+
+std::string Violated(const char* field, double value, const std::string& constraint) {
+  std::ostringstream os;
+  os << field << " = " << value << ". Violated constraint: " << constraint;
+  return os.str();
+}
+
+}  // namespace
+
+size_t FloorPlan::Count(FloorCell kind) const {
+  return size_t(std::count(cells.data.begin(), cells.data.end(), uint8_t(kind)));
+}
+
+bool FloorPlanOptions::Check(std::string* error) const {
+  if (!(door_min_width_m > 0)) return *error = Violated("door_min_width_m", door_min_width_m, "door_min_width_m > 0"), false;
+  if (!(door_max_width_m >= door_min_width_m))
+    return *error = Violated("door_max_width_m", door_max_width_m, "door_max_width_m >= door_min_width_m"), false;
+  if (!(door_min_height_m > 0)) return *error = Violated("door_min_height_m", door_min_height_m, "door_min_height_m > 0"), false;
+  if (!(lintel_ceiling_gap_m >= 0))
+    return *error = Violated("lintel_ceiling_gap_m", lintel_ceiling_gap_m, "lintel_ceiling_gap_m >= 0"), false;
+  if (!(wall_min_height_m > 0)) return *error = Violated("wall_min_height_m", wall_min_height_m, "wall_min_height_m > 0"), false;
+  if (!(clutter_max_area_m2 >= 0))
+    return *error = Violated("clutter_max_area_m2", clutter_max_area_m2, "clutter_max_area_m2 >= 0"), false;
+  if (!(free_threshold >= 0 && free_threshold <= 254))
+    return *error = Violated("free_threshold", free_threshold, "0 <= free_threshold <= 254"), false;
+  return true;
+}
+
+FloorPlan FloorPlanFromVoxels(const VoxelGrid& grid, double floor_z, double ceiling_z, const OccupancyMap& occupancy,
+                              const FloorPlanOptions& options) {
+  const auto& dims = grid.dims();
+  const int W = occupancy.image.width, H = occupancy.image.height;
+  FloorPlan plan;
+  plan.resolution_m = occupancy.resolution;
+  plan.origin_x = occupancy.origin_x;
+  plan.origin_y = occupancy.origin_y;
+  plan.floor_z = floor_z;
+  plan.cells = Image<uint8_t>(W, H, 1, uint8_t(FloorCell::kUnknown));
+  plan.ceiling_height_m = ImageF32(W, H, 1, 0.f);
+  if (W != dims[0] || H != dims[1] || W == 0 || H == 0) return plan;  // Not the grid's occupancy: nothing to do.
+
+  const double res = grid.resolution();
+  const double z0 = grid.MinCorner().z();
+  // Voxel layer whose centre is at or above height h over the floor, clamped to the grid.
+  auto layer_at = [&](double h) {
+    return std::clamp(int(std::ceil((floor_z + h - z0) / res - 0.5)), 0, dims[2]);
+  };
+  const double top = ceiling_z > floor_z ? ceiling_z - floor_z : dims[2] * res;
+  // Walls reach at least wall_min_height_m (or 80% of a low ceiling); lintels start at door_min_height_m.
+  const int wall_lo = layer_at(std::min(options.wall_min_height_m, 0.8 * top));
+  const int upper_hi = std::max(layer_at(top - options.lintel_ceiling_gap_m), wall_lo + 1);
+  const int lintel_lo = layer_at(options.door_min_height_m);
+  const int slab_lo = layer_at(0.0);
+
+  // Free cells by the occupancy map; obstacles split into walls and clutter by their height.
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const int iy = H - 1 - y;
+      const uint8_t v = occupancy.image.at(x, y);
+      FloorCell c = FloorCell::kUnknown;
+      if (v == kPgmFree) {
+        c = FloorCell::kFree;
+      } else if (v == kPgmOccupied) {
+        bool tall = false;
+        for (int iz = wall_lo; iz < std::min(upper_hi, dims[2]) && !tall; ++iz)
+          tall = grid.state(grid.Index(x, iy, iz)) == VoxelState::kOccupied;
+        c = tall ? FloorCell::kWall : FloorCell::kClutter;
+      }
+      plan.cells.at(x, y) = uint8_t(c);
+      // Ceiling height: the first occupied voxel above the door height with free space below it.
+      if (c == FloorCell::kFree) {
+        for (int iz = std::max(lintel_lo, slab_lo); iz < dims[2]; ++iz)
+          if (grid.state(grid.Index(x, iy, iz)) == VoxelState::kOccupied) {
+            plan.ceiling_height_m.at(x, y) = float(z0 + (iz + 0.5) * res - floor_z);
+            break;
+          }
+      }
+    }
+
+  // Door openings: free cells with a lintel above (occupied below the ceiling band) in a gap no wider
+  // than a door. The gap width is twice the distance to the nearest non-free cell.
+  cv::Mat1b free_mask(H, W, uchar(0));
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) free_mask(y, x) = plan.cells.at(x, y) == uint8_t(FloorCell::kFree) ? 255 : 0;
+  cv::Mat1f dist;
+  cv::distanceTransform(free_mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const float max_half_width_px = float(0.5 * options.door_max_width_m / res);
+  // The first surface above the door height is a lintel when it lies clearly below the ceiling.
+  const double lintel_top_m = top - options.lintel_ceiling_gap_m;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      if (!free_mask(y, x) || dist(y, x) > max_half_width_px) continue;
+      const double ceiling_h = plan.ceiling_height_m.at(x, y);
+      if (ceiling_h <= 0) continue;
+      if (ceiling_h < lintel_top_m) plan.cells.at(x, y) = uint8_t(FloorCell::kDoor);
+    }
+  return plan;
+}
+
+FloorPlan FloorPlanFromImage(const Image<uint8_t>& grey, double resolution_m, const FloorPlanOptions& options) {
+  const int W = grey.width, H = grey.height;
+  FloorPlan plan;
+  plan.resolution_m = resolution_m;
+  plan.cells = Image<uint8_t>(W, H, 1, uint8_t(FloorCell::kWall));
+  plan.ceiling_height_m = ImageF32(W, H, 1, 0.f);
+  if (W == 0 || H == 0) return plan;
+  cv::Mat1b obstacle(H, W, uchar(0));
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const bool free = grey.at(x, y) > options.free_threshold;
+      plan.cells.at(x, y) = uint8_t(free ? FloorCell::kFree : FloorCell::kWall);
+      obstacle(y, x) = free ? 0 : 255;
+    }
+  // Small obstacle islands (not touching the border, up to clutter_max_area_m2) are furniture.
+  cv::Mat1i labels;
+  cv::Mat stats, centroids;
+  const int n = cv::connectedComponentsWithStats(obstacle, labels, stats, centroids, 8, CV_32S);
+  const double max_px = options.clutter_max_area_m2 / (resolution_m * resolution_m);
+  std::vector<uint8_t> is_clutter(n, 0);
+  for (int i = 1; i < n; ++i) {
+    const int x = stats.at<int>(i, cv::CC_STAT_LEFT), y = stats.at<int>(i, cv::CC_STAT_TOP);
+    const int w = stats.at<int>(i, cv::CC_STAT_WIDTH), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
+    const bool border = x == 0 || y == 0 || x + w == W || y + h == H;
+    is_clutter[i] = !border && stats.at<int>(i, cv::CC_STAT_AREA) <= max_px;
+  }
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      if (is_clutter[labels(y, x)]) plan.cells.at(x, y) = uint8_t(FloorCell::kClutter);
+  return plan;
+}
+
+Result<Image<uint8_t>> ReadGreyMap(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    return Status::InvalidInput(FileError(path, "no such map image", "give a PNG or PGM map (0 occupied, 255 free)"));
+  cv::Mat m;
+  try {
+    m = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  } catch (const cv::Exception& e) {
+    return Status::InvalidInput(FileError(path, std::string("cannot decode image: ") + e.what(), ""));
+  }
+  if (m.empty())
+    return Status::InvalidInput(FileError(path, "cannot decode image", "give a PNG or PGM map (0 occupied, 255 free)"));
+  Image<uint8_t> out(m.cols, m.rows, 1);
+  for (int y = 0; y < m.rows; ++y) std::copy(m.ptr<uchar>(y), m.ptr<uchar>(y) + m.cols, &out.at(0, y));
+  return out;
+}
+
+}  // namespace semvox

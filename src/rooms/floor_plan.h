@@ -1,0 +1,75 @@
+// Floor plan: the occupancy grid's cells classified for room segmentation.
+//
+//   VoxelGrid + OccupancyMap --FloorPlanFromVoxels--> FloorPlan     (semvox run: 3D cues available)
+//   grey 2D map image        --FloorPlanFromImage---> FloorPlan     (semvox rooms: a plain 2D map)
+//
+// A cell is free floor, a door opening, clutter (furniture: an obstacle that does not reach the ceiling,
+// or in a 2D map a small obstacle island), a wall, or unknown. Door openings are the 3D cue a 2D map
+// lacks: a free cell in a narrow gap (at most door_max_width_m across) with a lintel above it, i.e.
+// occupied voxels between door_min_height_m and just below the ceiling while the slab below is free.
+// The grid is the occupancy grid: pixel (x, y) with row 0 at the largest world y, origin = world
+// position of the lower-left corner of the lower-left pixel (map_server convention).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/image.h"
+#include "core/status.h"
+#include "core/voxel_grid.h"
+#include "mapping/occupancy_map.h"
+
+namespace semvox {
+
+enum class FloorCell : uint8_t {
+  kUnknown = 0,  // Never observed (outside the apartment, inside walls, under furniture).
+  kFree = 1,     // Free floor in the mid-height slab.
+  kDoor = 2,     // Free floor in a door opening (under a lintel, between walls).
+  kClutter = 3,  // Furniture: occupied in the slab but not a wall; belongs to the room around it.
+  kWall = 4,     // Occupied from the slab up to the ceiling (or any obstacle of a 2D map).
+};
+
+struct FloorPlan {
+  Image<uint8_t> cells;       // One FloorCell per occupancy pixel (1 channel).
+  ImageF32 ceiling_height_m;  // Ceiling height above the floor per cell, metres; 0 where unknown.
+  double resolution_m = 0.05; // Cell edge, metres.
+  double origin_x = 0;        // World position of the lower-left pixel's lower-left corner, metres.
+  double origin_y = 0;
+  double floor_z = 0;         // Metres, input frame (0 for 2D maps).
+
+  int width() const { return cells.width; }
+  int height() const { return cells.height; }
+  FloorCell at(int x, int y) const { return FloorCell(cells.at(x, y)); }
+  // Free floor or door: the cells that get a room id in rooms.png.
+  bool IsFloor(int x, int y) const {
+    const FloorCell c = at(x, y);
+    return c == FloorCell::kFree || c == FloorCell::kDoor;
+  }
+  size_t Count(FloorCell kind) const;
+};
+
+struct FloorPlanOptions {
+  double door_min_width_m = 0.55;         // Narrowest door opening, metres. > 0.
+  double door_max_width_m = 1.3;          // Widest door opening, metres. >= door_min_width_m.
+  double door_min_height_m = 1.85;        // Lowest lintel underside above the floor, metres. > 0.
+  double lintel_ceiling_gap_m = 0.15;     // A lintel ends at least this far below the ceiling, metres. >= 0.
+  double wall_min_height_m = 2.0;         // An obstacle reaching this high above the floor is wall, metres.
+  double clutter_max_area_m2 = 1.0;       // 2D maps: obstacle islands up to this area are clutter, m². >= 0.
+  int free_threshold = 250;               // 2D maps: grey values above this are free (as the ipa benchmark). [0, 254].
+
+  bool Check(std::string* error) const;
+};
+
+// From a voxel map and its top-view occupancy (same x/y grid): free cells of the slab, walls and
+// clutter by their height, door openings by their lintels, and the ceiling height per cell.
+FloorPlan FloorPlanFromVoxels(const VoxelGrid& grid, double floor_z, double ceiling_z, const OccupancyMap& occupancy,
+                              const FloorPlanOptions& options);
+
+// From a grey 2D map (values > free_threshold free, the rest obstacles) at `resolution_m` per pixel.
+// Obstacle islands not touching the map's main walls and no larger than clutter_max_area_m2 become clutter.
+FloorPlan FloorPlanFromImage(const Image<uint8_t>& grey, double resolution_m, const FloorPlanOptions& options);
+
+// Reads a map image (PNG, PGM, ...; colour and alpha are converted to grey) for FloorPlanFromImage.
+Result<Image<uint8_t>> ReadGreyMap(const std::string& path);
+
+}  // namespace semvox

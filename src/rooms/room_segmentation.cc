@@ -1,0 +1,362 @@
+#include "rooms/room_segmentation.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+namespace semvox {
+namespace {
+
+std::string Violated(const char* field, double value, const std::string& constraint) {
+  std::ostringstream os;
+  os << field << " = " << value << ". Violated constraint: " << constraint;
+  return os.str();
+}
+
+// The part of the plan the segmentation works on, cropped to the bounding box of the room space.
+struct Workspace {
+  cv::Rect roi;            // In plan pixels.
+  cv::Mat1b space;         // 255: free, door or (fill_clutter) clutter.
+  cv::Mat1b door;          // 255: door cells.
+  cv::Mat1i label;         // Room label per space cell, 0 = none.
+};
+
+Workspace MakeWorkspace(const FloorPlan& plan, bool fill_clutter) {
+  const int W = plan.width(), H = plan.height();
+  int x0 = W, y0 = H, x1 = -1, y1 = -1;
+  auto in_space = [&](int x, int y) {
+    const FloorCell c = plan.at(x, y);
+    return c == FloorCell::kFree || c == FloorCell::kDoor || (fill_clutter && c == FloorCell::kClutter);
+  };
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      if (in_space(x, y)) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  Workspace ws;
+  if (x1 < 0) return ws;
+  // One pixel of margin so that the distance transform sees obstacles around the border.
+  x0 = std::max(0, x0 - 1), y0 = std::max(0, y0 - 1), x1 = std::min(W - 1, x1 + 1), y1 = std::min(H - 1, y1 + 1);
+  ws.roi = cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+  ws.space = cv::Mat1b(ws.roi.height, ws.roi.width, uchar(0));
+  ws.door = cv::Mat1b(ws.roi.height, ws.roi.width, uchar(0));
+  ws.label = cv::Mat1i(ws.roi.height, ws.roi.width, 0);
+  for (int y = 0; y < ws.roi.height; ++y)
+    for (int x = 0; x < ws.roi.width; ++x) {
+      const int px = x + x0, py = y + y0;
+      if (px == 0 || py == 0 || px == W - 1 || py == H - 1) continue;  // Keep a closed border.
+      if (in_space(px, py)) ws.space(y, x) = 255;
+      if (plan.at(px, py) == FloorCell::kDoor) ws.door(y, x) = 255;
+    }
+  return ws;
+}
+
+// 8-neighbour offsets; a diagonal step is allowed only when one of the two cells beside it is space, so
+// regions never leak through a one-pixel diagonal wall.
+constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+
+inline bool Step(const cv::Mat1b& space, int x, int y, int k, int* nx, int* ny) {
+  *nx = x + kDx[k], *ny = y + kDy[k];
+  if (*nx < 0 || *ny < 0 || *nx >= space.cols || *ny >= space.rows || !space(*ny, *nx)) return false;
+  if (k >= 4 && !space(y, *nx) && !space(*ny, x)) return false;
+  return true;
+}
+
+struct UnionFind {
+  std::vector<int> parent;
+  int Add() {
+    parent.push_back(int(parent.size()));
+    return int(parent.size()) - 1;
+  }
+  int Find(int a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  }
+};
+
+// Distance-transform watershed with doorway-aware merging (see the header).
+void SegmentByDistance(const RoomSegmentationOptions& o, double res, Workspace* ws) {
+  const int W = ws->space.cols, H = ws->space.rows;
+  cv::Mat1b inner = ws->space & ~ws->door;
+  cv::Mat1f dist;
+  cv::distanceTransform(inner, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+
+  // Space cells in order of decreasing distance (counting sort on 1/8 px steps).
+  constexpr float kBucketsPerPixel = 8.f;
+  double max_d = 0;
+  cv::minMaxLoc(dist, nullptr, &max_d);
+  const int num_buckets = int(max_d * kBucketsPerPixel) + 2;
+  std::vector<int> count(num_buckets + 1, 0);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      if (ws->space(y, x)) ++count[num_buckets - 1 - int(dist(y, x) * kBucketsPerPixel)];
+  std::vector<int> start(num_buckets + 1, 0);
+  for (int b = 0; b < num_buckets; ++b) start[b + 1] = start[b] + count[b];
+  std::vector<int> order(start[num_buckets]);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      if (ws->space(y, x)) order[start[num_buckets - 1 - int(dist(y, x) * kBucketsPerPixel)]++] = y * W + x;
+
+  const float door_half_px = float(0.5 * o.door_max_width_m / res);
+  const float min_radius_px = float(o.min_room_radius_m / res);
+  const float ratio = float(o.saddle_ratio);
+  UnionFind uf;
+  std::vector<float> peak;
+  auto should_merge = [&](float pa, float pb, float d) {  // pa >= pb: basin peaks; d: the pass.
+    return pb < min_radius_px || d > door_half_px || d >= ratio * pb;
+  };
+  int* label = ws->label.ptr<int>(0);  // Region index + 1 while flooding.
+  for (int p : order) {
+    const int x = p % W, y = p / W;
+    const float d = dist(y, x);
+    int roots[8], n = 0;
+    for (int k = 0; k < 8; ++k) {
+      int nx, ny;
+      if (!Step(ws->space, x, y, k, &nx, &ny)) continue;
+      const int l = label[ny * W + nx];
+      if (!l) continue;
+      const int r = uf.Find(l - 1);
+      if (std::find(roots, roots + n, r) == roots + n) roots[n++] = r;
+    }
+    if (n == 0) {
+      const int r = uf.Add();
+      peak.push_back(d);
+      label[p] = r + 1;
+      continue;
+    }
+    for (int i = 1; i < n; ++i)  // Highest peak first (insertion sort of at most 8).
+      for (int j = i; j > 0 && peak[roots[j]] > peak[roots[j - 1]]; --j) std::swap(roots[j], roots[j - 1]);
+    const int main = roots[0];
+    for (int i = 1; i < n; ++i)
+      if (should_merge(peak[main], peak[roots[i]], d)) uf.parent[roots[i]] = main;
+    label[p] = main + 1;
+  }
+  // Resolve labels to roots.
+  for (int i = 0; i < W * H; ++i)
+    if (label[i]) label[i] = uf.Find(label[i] - 1) + 1;
+}
+
+// Morphological segmentation (Bormann et al. 2016, Sec. III-A): erode, take parts that became small
+// enough as seeds, grow the seeds back.
+void SegmentByErosion(const RoomSegmentationOptions& o, double res, Workspace* ws) {
+  const int W = ws->space.cols, H = ws->space.rows;
+  const double px_area = res * res;
+  const int max_px = int(o.max_room_area_m2 / px_area);
+  cv::Mat1b cur = ws->space & ~ws->door;
+  cv::Mat1i seeds(H, W, 0);
+  int num_seeds = 0;
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
+  cv::Mat1i prev_labels;
+  cv::Mat1i labels;
+  cv::Mat stats, centroids;
+  int prev_n = 0;
+  auto record = [&](const cv::Mat1i& lab, const cv::Mat1b& mask, const std::vector<uint8_t>& take) {
+    std::vector<int> id(take.size(), 0);
+    for (size_t c = 1; c < take.size(); ++c)
+      if (take[c]) id[c] = ++num_seeds;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const int c = lab(y, x);
+        if (c > 0 && id[c] && mask(y, x)) seeds(y, x) = id[c], cur(y, x) = 0;
+      }
+  };
+  cv::Mat1b before;
+  while (cv::countNonZero(cur) > 0) {
+    before = cur.clone();
+    cv::erode(cur, cur, kernel);
+    const int n = cv::connectedComponentsWithStats(cur, labels, stats, centroids, 8, CV_32S);
+    // Parts of the previous level that vanished without ever being small enough: seed them as they were.
+    if (prev_n > 1) {
+      std::vector<uint8_t> alive(prev_n, 0);
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+          if (cur(y, x) && prev_labels(y, x) > 0) alive[prev_labels(y, x)] = 1;
+      std::vector<uint8_t> take(prev_n, 0);
+      bool any = false;
+      for (int c = 1; c < prev_n; ++c) any |= take[c] = !alive[c];
+      if (any) record(prev_labels, before, take);
+    }
+    std::vector<uint8_t> take(n, 0);
+    bool any = false;
+    for (int c = 1; c < n; ++c) any |= take[c] = stats.at<int>(c, cv::CC_STAT_AREA) <= max_px;
+    if (any) record(labels, cur, take);
+    // Labels of what is left, for the vanishing test at the next level.
+    prev_n = any ? cv::connectedComponents(cur, prev_labels, 8, CV_32S) : n;
+    if (!any) prev_labels = labels.clone();
+  }
+  // Geodesic wavefront from the seeds over the whole space (doors included).
+  std::deque<int> queue;
+  int* label = ws->label.ptr<int>(0);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      if (seeds(y, x) && ws->space(y, x)) label[y * W + x] = seeds(y, x), queue.push_back(y * W + x);
+  while (!queue.empty()) {
+    const int p = queue.front();
+    queue.pop_front();
+    const int x = p % W, y = p / W;
+    for (int k = 0; k < 4; ++k) {
+      int nx, ny;
+      if (!Step(ws->space, x, y, k, &nx, &ny) || label[ny * W + nx]) continue;
+      label[ny * W + nx] = label[p];
+      queue.push_back(ny * W + nx);
+    }
+  }
+}
+
+// Merges rooms smaller than min_px into the neighbour with the longest shared border; rooms without a
+// neighbour that are still too small are dropped (set to 0). Returns labels 1..K in raster order.
+int MergeSmallRooms(int min_px, Workspace* ws) {
+  const int W = ws->label.cols, H = ws->label.rows;
+  int* label = ws->label.ptr<int>(0);
+  // Compact labels.
+  std::map<int, int> remap;
+  for (int i = 0; i < W * H; ++i)
+    if (label[i]) {
+      auto it = remap.emplace(label[i], int(remap.size()) + 1).first;
+      label[i] = it->second;
+    }
+  const int n = int(remap.size());
+  std::vector<int64_t> area(n + 1, 0);
+  std::map<std::pair<int, int>, int> border;  // (a < b) -> shared 4-neighbour edges.
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const int a = label[y * W + x];
+      if (!a) continue;
+      ++area[a];
+      if (x + 1 < W && label[y * W + x + 1] && label[y * W + x + 1] != a)
+        ++border[{std::min(a, label[y * W + x + 1]), std::max(a, label[y * W + x + 1])}];
+      if (y + 1 < H && label[(y + 1) * W + x] && label[(y + 1) * W + x] != a)
+        ++border[{std::min(a, label[(y + 1) * W + x]), std::max(a, label[(y + 1) * W + x])}];
+    }
+  std::vector<int> parent(n + 1);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  std::vector<std::map<int, int>> adj(n + 1);
+  for (const auto& [k, c] : border) adj[k.first][k.second] += c, adj[k.second][k.first] += c;
+  // Smallest first; a merged room may still be small and is revisited.
+  std::vector<uint8_t> dropped(n + 1, 0);
+  while (true) {
+    int smallest = 0;
+    for (int a = 1; a <= n; ++a)
+      if (find(a) == a && !dropped[a] && area[a] < min_px && (!smallest || area[a] < area[smallest])) smallest = a;
+    if (!smallest) break;
+    int best = 0, best_len = 0;
+    for (const auto& [b, len] : adj[smallest])
+      if (len > best_len) best = b, best_len = len;
+    if (!best) {
+      dropped[smallest] = 1;
+      continue;
+    }
+    // Merge smallest into best.
+    parent[smallest] = best;
+    area[best] += area[smallest];
+    for (const auto& [b, len] : adj[smallest]) {
+      adj[b].erase(smallest);
+      if (b != best) adj[b][best] += len, adj[best][b] += len;
+    }
+    adj[best].erase(smallest);
+    adj[smallest].clear();
+  }
+  std::vector<int> final_id(n + 1, 0);
+  int k = 0;
+  for (int i = 0; i < W * H; ++i) {
+    if (!label[i]) continue;
+    const int r = find(label[i]);
+    if (dropped[r]) {
+      label[i] = 0;
+      continue;
+    }
+    if (!final_id[r]) final_id[r] = ++k;
+    label[i] = final_id[r];
+  }
+  return k;
+}
+
+}  // namespace
+
+const char* RoomSegmentationMethodName(RoomSegmentationMethod method) {
+  switch (method) {
+    case RoomSegmentationMethod::kDistanceWatershed: return "distance";
+    case RoomSegmentationMethod::kMorphological: return "morphological";
+  }
+  return "?";
+}
+
+std::vector<std::string> RoomSegmentationMethodNames() { return {"distance", "morphological"}; }
+
+bool ParseRoomSegmentationMethod(const std::string& name, RoomSegmentationMethod* method) {
+  for (RoomSegmentationMethod m : {RoomSegmentationMethod::kDistanceWatershed, RoomSegmentationMethod::kMorphological})
+    if (name == RoomSegmentationMethodName(m)) return *method = m, true;
+  return false;
+}
+
+bool RoomSegmentationOptions::Check(std::string* error) const {
+  if (!(door_max_width_m > 0)) return *error = Violated("door_max_width_m", door_max_width_m, "door_max_width_m > 0"), false;
+  if (!(saddle_ratio > 0 && saddle_ratio <= 1))
+    return *error = Violated("saddle_ratio", saddle_ratio, "0 < saddle_ratio <= 1"), false;
+  if (!(min_room_radius_m >= 0))
+    return *error = Violated("min_room_radius_m", min_room_radius_m, "min_room_radius_m >= 0"), false;
+  if (!(min_room_area_m2 >= 0)) return *error = Violated("min_room_area_m2", min_room_area_m2, "min_room_area_m2 >= 0"), false;
+  if (!(max_room_area_m2 > min_room_area_m2))
+    return *error = Violated("max_room_area_m2", max_room_area_m2, "max_room_area_m2 > min_room_area_m2"), false;
+  if (!(max_speck_distance_m >= 0))
+    return *error = Violated("max_speck_distance_m", max_speck_distance_m, "max_speck_distance_m >= 0"), false;
+  return true;
+}
+
+RoomSegmentation SegmentRooms(const FloorPlan& plan, const RoomSegmentationOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RoomSegmentation out;
+  const int W = plan.width(), H = plan.height();
+  out.room_ids = ImageU16(W, H, 1, 0);
+  out.room_extent_ids = ImageU16(W, H, 1, 0);
+  Workspace ws = MakeWorkspace(plan, options.fill_clutter);
+  const double res = plan.resolution_m;
+  if (!ws.space.empty()) {
+    if (options.method == RoomSegmentationMethod::kMorphological) SegmentByErosion(options, res, &ws);
+    else SegmentByDistance(options, res, &ws);
+    const int min_px = int(std::ceil(options.min_room_area_m2 / (res * res)));
+    out.num_rooms = std::min(MergeSmallRooms(min_px, &ws), 65535);
+
+    // Floor cells left without a room (specks cut off by furniture) join the nearest room nearby.
+    const int w = ws.roi.width, h = ws.roi.height;
+    cv::Mat1b unlabelled(h, w, uchar(255));
+    std::vector<int> room_of_seed(1, 0);  // DIST_LABEL_PIXEL numbers zero pixels in raster order from 1.
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (ws.label(y, x)) unlabelled(y, x) = 0, room_of_seed.push_back(ws.label(y, x));
+    if (room_of_seed.size() > 1) {
+      cv::Mat1f dist;
+      cv::Mat1i nearest;
+      cv::distanceTransform(unlabelled, dist, nearest, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
+      const float max_px = float(options.max_speck_distance_m / res);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const FloorCell c = plan.at(x + ws.roi.x, y + ws.roi.y);
+          const bool floor = c == FloorCell::kFree || c == FloorCell::kDoor;
+          if (!ws.label(y, x) && floor && dist(y, x) <= max_px) ws.label(y, x) = room_of_seed[nearest(y, x)];
+        }
+    }
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int id = std::min(ws.label(y, x), 65535);
+        if (!id) continue;
+        const int px = x + ws.roi.x, py = y + ws.roi.y;
+        const FloorCell c = plan.at(px, py);
+        if (c == FloorCell::kFree || c == FloorCell::kDoor || c == FloorCell::kClutter) out.room_extent_ids.at(px, py) = id;
+        if (c == FloorCell::kFree || c == FloorCell::kDoor) out.room_ids.at(px, py) = id;
+      }
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace semvox
