@@ -83,4 +83,32 @@ Result<std::vector<std::pair<VoxelKey, bool>>> ReadOctomapLeaves(const std::stri
   return out;
 }
 
+struct OccupancyOctree::Impl {
+  explicit Impl(double r) : tree(r) {}
+  octomap::OcTree tree;
+};
+
+OccupancyOctree::OccupancyOctree(double resolution) : impl_(std::make_unique<Impl>(resolution)) {}
+OccupancyOctree::~OccupancyOctree() = default;
+OccupancyOctree::OccupancyOctree(OccupancyOctree&&) noexcept = default;
+
+void OccupancyOctree::Apply(const FrameUpdate& update) {
+  for (const VoxelKey& k : update.free) impl_->tree.updateNode(octomap::OcTreeKey(k.x, k.y, k.z), false, true);
+  for (const VoxelKey& k : update.occupied) impl_->tree.updateNode(octomap::OcTreeKey(k.x, k.y, k.z), true, true);
+  impl_->tree.updateInnerOccupancy();
+}
+
+size_t OccupancyOctree::num_nodes() const { return impl_->tree.size(); }
+
+Status OccupancyOctree::WriteBinary(const std::string& path) const {
+  std::ostringstream os;
+  bool ok;
+  {
+    ScopedSilenceStderr silence;
+    ok = impl_->tree.writeBinaryConst(os);
+  }
+  if (!ok) return Status::Internal(FileError(path, "OctoMap serialisation failed", ""));
+  return WriteFileAtomic(path, os.str());
+}
+
 }  // namespace semvox
