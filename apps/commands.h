@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "apps/config.h"
 #include "core/status.h"
@@ -15,6 +16,8 @@ struct RunArgs {
   std::string up;              // "", "auto", "z" or "y" (overrides the config when set).
   double scale = 0;            // > 0 overrides the config.
   bool json = false;           // Print summary.json on stdout.
+  long long max_voxels = 0;    // > 0 overrides mapping.max_voxels.
+  bool save_views = false;     // Also write PNG thumbnails of every view into OUTDIR/views/.
 };
 
 // `semvox run`: load, voxelise, write map.bt, occupancy.{pgm,yaml}, summary.json, config_used.yaml.
@@ -24,9 +27,51 @@ struct GenerateArgs {
   std::string outdir;
   bool demo = false;  // The bundled demo apartment instead of a random one.
   int seed = 0;
+  bool cloud = false;  // Also simulate a scanner and write cloud.ply.
+  bool clean = false;  // No scan artefacts in mesh.ply.
 };
 
 // `semvox generate`: writes a labelled apartment (mesh.ply, ...) into OUTDIR.
 Status RunGenerate(const GenerateArgs& args);
+
+// ---- rooms (apps/rooms_command.cc) ----
+struct RoomsArgs {
+  std::string map_path;           // 2D map image: 0 occupied, 255 free.
+  double resolution_m = 0.05;     // Metres per pixel.
+  std::string method;             // "" = the configuration's rooms.method.
+  std::string outdir;
+  std::string config_path;        // Optional YAML file; its rooms section applies.
+  std::string ground_truth_path;  // Optional ipa-style _gt_segmentation.png: print recall and precision.
+};
+
+// `semvox rooms`: segments a 2D map into rooms; writes OUTDIR/rooms.png (16-bit ids), rooms.geojson, rooms.svg.
+Status RunRooms(const RoomsArgs& args);
+
+// ---- render (apps/render_command.cc) ----
+struct RenderArgs {
+  std::string input;
+  std::string outdir;
+  std::string config_path;         // Optional YAML file; its render section sets size and field of view.
+  std::string up;                  // As for RunArgs.
+  double scale = 0;
+  std::vector<std::string> poses;  // "x,y,z,yaw_deg[,pitch_deg]" each, world frame, metres and degrees.
+  double horizontal_fov_deg = 0;   // > 0 overrides render.horizontal_fov_deg.
+  int width = 0, height = 0;       // > 0 override render.width / render.height.
+  double voxel_size_m = 0;         // > 0 overrides mapping.voxel_size_m (resolution of the voxel keys).
+};
+
+// `semvox render`: renders the given poses into OUTDIR as view_NN_{rgb,depth,normal,keys}.png plus
+// views.json (poses, intrinsics, per-view statistics).
+Status RunRender(const RenderArgs& args);
+
+// The render stage of `semvox run`: viewpoints and views over the voxel map, OUTDIR/views.json, and with
+// save_views the thumbnails OUTDIR/views/view_NNNNN.png.
+struct ViewsStageSummary {
+  size_t positions = 0, views = 0, kept = 0;
+  size_t surface_voxels = 0, seen_surface_voxels = 0;  // Occupied voxels with a free neighbour; seen by kept views.
+  double camera_z = 0, seconds_build = 0, seconds_render = 0;
+};
+Status RunViewsStage(const Scene& scene, const VoxelMap& map, const ViewsOptions& options, const std::string& outdir,
+                     bool save_views, ViewsStageSummary* summary);
 
 }  // namespace semvox

@@ -65,6 +65,33 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_INT_FIELD("mapping", voxelize, cloud_normal_neighbors, 3, 100, "k for point-cloud normals"));
     f.push_back(SEMVOX_DOUBLE_FIELD("occupancy", occupancy, band_min_above_floor_m, -10, 10, "height band bottom above the floor, metres"));
     f.push_back(SEMVOX_DOUBLE_FIELD("occupancy", occupancy, band_max_above_floor_m, -10, 10, "height band top above the floor, metres"));
+    // ---- rooms: floor plan and room segmentation (rooms/floor_plan.h, rooms/room_segmentation.h) ----
+    {
+      Field method;
+      method.section = "rooms";
+      method.key = "method";
+      method.doc = "room segmentation method (distance: doorway-aware distance watershed; morphological: erosion + growth)";
+      method.choices = RoomSegmentationMethodNames();
+      method.get_str = [](const PipelineConfig& c) { return std::string(RoomSegmentationMethodName(c.rooms.method)); };
+      method.set_str = [](PipelineConfig& c, const std::string& v) { ParseRoomSegmentationMethod(v, &c.rooms.method); };
+      f.push_back(method);
+    }
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, door_max_width_m, 0.1, 20, "widest opening that separates rooms, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, saddle_ratio, 0.01, 1, "distance: a pass separates rooms below this fraction of the smaller room's inscribed radius"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, saddle_ratio_larger, 0.01, 1, "distance: ... or of the larger room's inscribed radius"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, min_room_radius_m, 0, 10, "distance: rooms need at least this inscribed radius, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, min_room_area_m2, 0, 1000, "smaller rooms merge into a neighbour, m2"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, max_room_area_m2, 0.1, 1e6, "morphological: eroded parts up to this area become rooms, m2"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, max_speck_distance_m, 0, 10, "unreached free cells join the nearest room within this, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, door_min_width_m, 0.1, 10, "narrowest door opening, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, door_max_width_m, 0.1, 10, "widest door opening (lintel detection), metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, door_min_height_m, 0.5, 10, "lowest lintel underside above the floor, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, lintel_ceiling_gap_m, 0, 5, "a lintel ends at least this far below the ceiling, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, wall_min_height_m, 0.5, 10, "obstacles reaching this high are walls, not furniture, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, clutter_max_area_m2, 0, 100, "2D maps: obstacle islands up to this area are furniture, m2"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, clutter_max_length_m, 0, 100, "2D maps: ... and up to this bounding-box diagonal, metres"));
+    f.push_back(SEMVOX_INT_FIELD("rooms", floor_plan, free_threshold, 0, 254, "2D maps: grey values above this are free"));
+    // ---- end rooms ----
     return f;
   }();
   return kFields;
@@ -143,6 +170,8 @@ Status CheckConfig(const PipelineConfig& config) {
   if (!config.load.Check(&error)) return Status::InvalidInput("configuration: input." + error);
   if (!config.voxelize.Check(&error)) return Status::InvalidInput("configuration: mapping." + error);
   if (!config.occupancy.Check(&error)) return Status::InvalidInput("configuration: occupancy." + error);
+  if (!config.floor_plan.Check(&error)) return Status::InvalidInput("configuration: rooms." + error);
+  if (!config.rooms.Check(&error)) return Status::InvalidInput("configuration: rooms." + error);
   return Status::Ok();
 }
 

@@ -11,6 +11,8 @@
 #include "io/load_scene.h"
 #include "mapping/occupancy_map.h"
 #include "mapping/voxelizer.h"
+#include "rooms/floor_plan.h"
+#include "rooms/room_segmentation.h"
 
 namespace semvox {
 
@@ -18,6 +20,8 @@ struct PipelineConfig {
   LoadOptions load;
   VoxelizeOptions voxelize;
   OccupancyOptions occupancy;
+  FloorPlanOptions floor_plan;     // Section "rooms": floor plan fields (rooms/floor_plan.h).
+  RoomSegmentationOptions rooms;   // Section "rooms": segmentation fields (rooms/room_segmentation.h).
 };
 
 // Applies the settings in `path` on top of `config`.

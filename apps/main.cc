@@ -46,6 +46,9 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--up", run.up, "up axis of the input: auto, z or y")->check(CLI::IsMember({"auto", "z", "y"}));
   run_cmd->add_option("--scale", run.scale, "multiply coordinates into metres (0.001 for mm)")->check(CLI::PositiveNumber);
   run_cmd->add_flag("--json", run.json, "print summary.json on stdout");
+  run_cmd->add_option("--max-voxels", run.max_voxels, "refuse voxel grids larger than this (memory guard)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_flag("--save-views", run.save_views, "write PNG thumbnails of every view into OUTDIR/views/");
   run_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
 
   semvox::GenerateArgs gen;
@@ -53,7 +56,34 @@ int main(int argc, char** argv) {
   gen_cmd->add_option("-o,--output", gen.outdir, "output directory")->required();
   gen_cmd->add_flag("--demo", gen.demo, "the bundled demo apartment");
   gen_cmd->add_option("--seed", gen.seed, "random seed");
+  gen_cmd->add_flag("--cloud", gen.cloud, "also simulate a scanner walk and write cloud.ply");
+  gen_cmd->add_flag("--clean", gen.clean, "no scan artefacts in mesh.ply");
 
+  semvox::RenderArgs render;
+  CLI::App* render_cmd = app.add_subcommand("render", "render chosen views of a mesh or cloud into DIR for inspection");
+  render_cmd->add_option("input", render.input, "mesh or point cloud, as for `semvox run`")->required();
+  render_cmd->add_option("-o,--output", render.outdir, "output directory")->required();
+  render_cmd->add_option("--pose", render.poses, "x,y,z,yaw_deg[,pitch_deg] in the input frame (repeatable); yaw 0 looks along +X")
+      ->required()->take_all();
+  render_cmd->add_option("--fov", render.horizontal_fov_deg, "horizontal field of view, degrees")->check(CLI::Range(2.0, 170.0));
+  render_cmd->add_option("--width", render.width, "image width, pixels")->check(CLI::Range(16, 8192));
+  render_cmd->add_option("--height", render.height, "image height, pixels")->check(CLI::Range(16, 8192));
+  render_cmd->add_option("--voxel-size", render.voxel_size_m, "resolution of the per-pixel voxel keys, metres")->check(CLI::PositiveNumber);
+  render_cmd->add_option("--config", render.config_path, "YAML configuration (render and input sections apply)");
+  render_cmd->add_option("--up", render.up, "up axis of the input: auto, z or y")->check(CLI::IsMember({"auto", "z", "y"}));
+  render_cmd->add_option("--scale", render.scale, "multiply coordinates into metres")->check(CLI::PositiveNumber);
+  render_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
+
+  semvox::RoomsArgs rooms_args;
+  CLI::App* rooms_cmd = app.add_subcommand("rooms", "segment a 2D map image (0 occupied, 255 free) into rooms");
+  rooms_cmd->add_option("map", rooms_args.map_path, "map image (PNG, PGM); pixels > 250 are free")->required();
+  rooms_cmd->add_option("--resolution", rooms_args.resolution_m, "metres per pixel")->check(CLI::PositiveNumber);
+  rooms_cmd->add_option("--method", rooms_args.method, "distance (default) or morphological")
+      ->check(CLI::IsMember({"distance", "morphological"}));
+  rooms_cmd->add_option("-o,--output", rooms_args.outdir, "output directory (rooms.png, rooms.geojson, rooms.svg)")->required();
+  rooms_cmd->add_option("--config", rooms_args.config_path, "YAML configuration (its rooms section applies)");
+  rooms_cmd->add_option("--gt", rooms_args.ground_truth_path, "ground truth (ipa _gt_segmentation.png): print recall and precision");
+  rooms_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
   bool dump = false;
   std::string check_path;
   CLI::App* config_cmd = app.add_subcommand("config", "print or check the configuration");
@@ -73,6 +103,8 @@ int main(int argc, char** argv) {
   try {
     if (*run_cmd) return Report(semvox::RunPipeline(run));
     if (*gen_cmd) return Report(semvox::RunGenerate(gen));
+    if (*rooms_cmd) return Report(semvox::RunRooms(rooms_args));
+    if (*render_cmd) return Report(semvox::RunRender(render));
     if (*config_cmd) {
       semvox::PipelineConfig config;
       if (!check_path.empty()) {

@@ -10,7 +10,11 @@
 #include "io/load_scene.h"
 #include "mapping/occupancy_map.h"
 #include "mapping/octomap_io.h"
+#include "mapping/outliers.h"
 #include "mapping/voxelizer.h"
+#include "rooms/floor_plan.h"
+#include "rooms/room_export.h"
+#include "rooms/room_segmentation.h"
 
 namespace semvox {
 namespace fs = std::filesystem;
@@ -36,6 +40,7 @@ Status RunPipeline(const RunArgs& args) {
   if (!args.config_path.empty()) SEMVOX_RETURN_IF_ERROR(LoadConfigFile(args.config_path, &config));
   if (!args.up.empty()) config.load.up = args.up == "y" ? UpAxis::kY : args.up == "z" ? UpAxis::kZ : UpAxis::kAuto;
   if (args.scale > 0) config.load.scale = args.scale;
+  if (args.max_voxels > 0) config.voxelize.max_voxels = size_t(args.max_voxels);
   SEMVOX_RETURN_IF_ERROR(CheckConfig(config));
   SEMVOX_RETURN_IF_ERROR(CheckOutputNotInput(args.input, args.outdir));
   // Fail on an unwritable OUTDIR before any work.
@@ -45,7 +50,15 @@ Status RunPipeline(const RunArgs& args) {
   auto t0 = Clock::now();
   Result<Scene> scene_or = LoadScene(args.input, config.load);
   if (!scene_or.ok()) return scene_or.status();
-  const Scene& scene = scene_or.value();
+  Scene& scene = scene_or.value();
+  const OutlierReport outliers = TrimOutliers(&scene);
+  if (outliers.removed_vertices > 0)
+    SEMVOX_WARN(args.input << ": trimmed " << outliers.removed_vertices
+                           << (scene.is_mesh() ? " vertices (" + std::to_string(outliers.removed_faces) + " faces)" : " points")
+                           << " lying far outside the scan (kept box " << outliers.kept_box.min.transpose() << " .. "
+                           << outliers.kept_box.max.transpose() << " m)");
+  if (scene.is_mesh() ? scene.mesh.faces.empty() : scene.cloud.points.empty())
+    return Status::InvalidInput(FileError(args.input, "no geometry left after trimming outliers", "check the units"));
   timing["load"] = Seconds(t0);
   SEMVOX_INFO("loaded " << args.input << ": "
                         << (scene.is_mesh() ? std::to_string(scene.mesh.faces.size()) + " triangles"
@@ -63,10 +76,39 @@ Status RunPipeline(const RunArgs& args) {
                               << " free, " << counts[0] << " unknown; " << map.scan_positions.size()
                               << " scan positions; floor z = " << map.floor_z << ", ceiling z = " << map.ceiling_z);
 
+  // ---- render stage (issue 4): viewpoints and virtual views -> views.json [, views/*.png] ----
+  t0 = Clock::now();
+  ViewsStageSummary views;
+  SEMVOX_RETURN_IF_ERROR(RunViewsStage(scene, map, config.render, args.outdir, args.save_views, &views));
+  timing["render"] = Seconds(t0);
+  timing["render_build"] = views.seconds_build;
+  timing["render_trace"] = views.seconds_render;
+  // ---- end render stage ----
+
   t0 = Clock::now();
   const OccupancyMap occ = ComputeOccupancy(map.grid, map.floor_z, config.occupancy);
   SEMVOX_RETURN_IF_ERROR(WriteOccupancyMap(occ, args.outdir, "occupancy"));
   timing["occupancy"] = Seconds(t0);
+  // ---- rooms stage (src/rooms): floor plan with door openings, geometric room segmentation, and
+  // rooms.png / rooms.geojson / rooms.svg on the occupancy grid. Room types stay "unknown" until a
+  // room-type classifier exists.
+  nlohmann::ordered_json rooms_summary;
+  {
+    t0 = Clock::now();
+    const FloorPlan plan = FloorPlanFromVoxels(map.grid, map.floor_z, map.ceiling_z, occ, config.floor_plan);
+    const RoomSegmentation rooms = SegmentRooms(plan, config.rooms);
+    SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(args.outdir, plan, rooms));
+    timing["rooms"] = Seconds(t0);
+    rooms_summary = {{"method", RoomSegmentationMethodName(config.rooms.method)},
+                     {"rooms", rooms.num_rooms},
+                     {"door_cells", plan.Count(FloorCell::kDoor)},
+                     {"wall_cells", plan.Count(FloorCell::kWall)},
+                     {"clutter_cells", plan.Count(FloorCell::kClutter)},
+                     {"files", {"rooms.png", "rooms.geojson", "rooms.svg"}}};
+    SEMVOX_INFO("rooms: " << rooms.num_rooms << " (" << plan.Count(FloorCell::kDoor) << " door cells, "
+                          << RoomSegmentationMethodName(config.rooms.method) << ")");
+  }
+  // ---- end rooms stage ----
   t0 = Clock::now();
   SEMVOX_RETURN_IF_ERROR(WriteOctomapBinary(map.grid, (fs::path(args.outdir) / "map.bt").string()));
   timing["octomap"] = Seconds(t0);
@@ -83,7 +125,8 @@ Status RunPipeline(const RunArgs& args) {
                 {"has_colors", scene.is_mesh() ? scene.mesh.has_vertex_colors() : scene.cloud.has_colors()},
                 {"has_texture", scene.mesh.has_texture()},
                 {"materials", scene.mesh.materials.size()},
-                {"dropped_non_finite", scene.dropped_non_finite}};
+                {"dropped_non_finite", scene.dropped_non_finite},
+                {"trimmed_outliers", outliers.removed_vertices}};
   s["bounds"] = {{"min", {box.min.x(), box.min.y(), box.min.z()}}, {"max", {box.max.x(), box.max.y(), box.max.z()}}};
   s["voxel_size_m"] = config.voxelize.voxel_size_m;
   s["grid"] = {{"dims", map.grid.dims()}, {"origin_key", map.grid.origin_key()}};
@@ -97,6 +140,10 @@ Status RunPipeline(const RunArgs& args) {
   s["rays_cast"] = map.rays_cast;
   s["occupancy"] = {{"image", "occupancy.pgm"}, {"width", occ.image.width}, {"height", occ.image.height},
                     {"origin", {occ.origin_x, occ.origin_y}}};
+  s["rooms"] = rooms_summary;
+  s["views"] = {{"file", "views.json"}, {"positions", views.positions}, {"views", views.views}, {"kept", views.kept},
+                {"camera_z", views.camera_z}, {"surface_voxels", views.surface_voxels},
+                {"surface_voxels_seen", views.seen_surface_voxels}};  // render stage
   s["warnings"] = TakeWarnings();
   timing["total"] = Seconds(t_all);
   s["seconds"] = timing;

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "rooms/floor_plan.h"
 #include "rooms/room_score.h"
 #include "rooms/room_segmentation.h"
@@ -26,6 +28,7 @@ int main(int argc, char** argv) {
   RoomSegmentationOptions seg;
   FloorPlanOptions fp;
   bool per_map = true;
+  std::string dump_dir;  // --dump DIR: colour images of each segmentation (room colours, black walls).
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -35,6 +38,7 @@ int main(int argc, char** argv) {
     if (a == "--data") data = next();
     else if (a == "--method") methods.push_back(next());
     else if (a == "--brief") per_map = false;
+    else if (a == "--dump") dump_dir = next();
     else if (a == "--saddle_ratio") seg.saddle_ratio = std::atof(next().c_str());
     else if (a == "--min_room_radius_m") seg.min_room_radius_m = std::atof(next().c_str());
     else if (a == "--door_max_width_m") seg.door_max_width_m = std::atof(next().c_str());
@@ -42,6 +46,8 @@ int main(int argc, char** argv) {
     else if (a == "--max_room_area_m2") seg.max_room_area_m2 = std::atof(next().c_str());
     else if (a == "--max_speck_distance_m") seg.max_speck_distance_m = std::atof(next().c_str());
     else if (a == "--clutter_max_area_m2") fp.clutter_max_area_m2 = std::atof(next().c_str());
+    else if (a == "--clutter_max_length_m") fp.clutter_max_length_m = std::atof(next().c_str());
+    else if (a == "--saddle_ratio_larger") seg.saddle_ratio_larger = std::atof(next().c_str());
     else if (a == "--no_fill_clutter") seg.fill_clutter = false;
     else {
       std::fprintf(stderr, "rooms_bench: unknown argument %s\n", a.c_str());
@@ -94,6 +100,17 @@ int main(int argc, char** argv) {
           std::printf("%-14s %-28s recall %.3f precision %.3f rooms %3d (gt %3d) %.3f s\n", method_name.c_str(),
                       (m + variant).c_str(), score.recall, score.precision, score.num_predicted_rooms,
                       score.num_ground_truth_rooms, s);
+        if (!dump_dir.empty()) {
+          cv::Mat3b img(plan.height(), plan.width(), cv::Vec3b(0, 0, 0));
+          for (int y = 0; y < plan.height(); ++y)
+            for (int x = 0; x < plan.width(); ++x) {
+              const int id = rooms.room_ids.at(x, y);
+              if (id) img(y, x) = cv::Vec3b(60 + (id * 97) % 190, 60 + (id * 57) % 190, 60 + (id * 31) % 190);
+              else if (plan.at(x, y) == FloorCell::kClutter) img(y, x) = cv::Vec3b(128, 128, 128);
+              else if (plan.IsFloor(x, y)) img(y, x) = cv::Vec3b(255, 255, 255);
+            }
+          cv::imwrite(dump_dir + "/" + method_name + "_" + m + variant + ".png", img);
+        }
         sr += score.recall, sp += score.precision, ss += s;
       }
       const double n = double(maps.size());

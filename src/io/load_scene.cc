@@ -174,8 +174,20 @@ Result<Scene> LoadScene(const std::string& path, const LoadOptions& options) {
   if (y_up || options.scale != 1.0) Transform(&scene, y_up, options.scale);
   if (y_up && options.up == UpAxis::kAuto) SEMVOX_INFO(path << ": glTF is +Y up by specification; converted to +Z up");
 
-  const Aabb box = scene.Bounds();
-  const float largest = box.extent().maxCoeff();
+  // Units check on the robust extent (0.1% .. 99.9% quantiles of a subsample), so that a single stray
+  // point does not look like millimetres; mapping trims such strays later.
+  const std::vector<Eigen::Vector3f>& pts = scene.is_mesh() ? scene.mesh.vertices : scene.cloud.points;
+  const size_t stride = std::max<size_t>(1, pts.size() / 100000);
+  float largest = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<float> v;
+    for (size_t i = 0; i < pts.size(); i += stride) v.push_back(pts[i][axis]);
+    const size_t lo = size_t(0.001 * double(v.size() - 1)), hi = size_t(0.999 * double(v.size() - 1));
+    std::nth_element(v.begin(), v.begin() + lo, v.end());
+    const float vlo = v[lo];
+    std::nth_element(v.begin(), v.begin() + hi, v.end());
+    largest = std::max(largest, v[hi] - vlo);
+  }
   if (largest > options.millimetre_warning_extent_m)
     SEMVOX_WARN(path << ": the scene is " << largest << " m across, which suggests millimetres or centimetres; "
                      << "pass --scale 0.001 (mm) or --scale 0.01 (cm) if so");

@@ -33,6 +33,8 @@ bool FloorPlanOptions::Check(std::string* error) const {
   if (!(wall_min_height_m > 0)) return *error = Violated("wall_min_height_m", wall_min_height_m, "wall_min_height_m > 0"), false;
   if (!(clutter_max_area_m2 >= 0))
     return *error = Violated("clutter_max_area_m2", clutter_max_area_m2, "clutter_max_area_m2 >= 0"), false;
+  if (!(clutter_max_length_m >= 0))
+    return *error = Violated("clutter_max_length_m", clutter_max_length_m, "clutter_max_length_m >= 0"), false;
   if (!(free_threshold >= 0 && free_threshold <= 254))
     return *error = Violated("free_threshold", free_threshold, "0 <= free_threshold <= 254"), false;
   return true;
@@ -128,12 +130,13 @@ FloorPlan FloorPlanFromImage(const Image<uint8_t>& grey, double resolution_m, co
   cv::Mat stats, centroids;
   const int n = cv::connectedComponentsWithStats(obstacle, labels, stats, centroids, 8, CV_32S);
   const double max_px = options.clutter_max_area_m2 / (resolution_m * resolution_m);
+  const double max_len_px = options.clutter_max_length_m / resolution_m;
   std::vector<uint8_t> is_clutter(n, 0);
   for (int i = 1; i < n; ++i) {
     const int x = stats.at<int>(i, cv::CC_STAT_LEFT), y = stats.at<int>(i, cv::CC_STAT_TOP);
     const int w = stats.at<int>(i, cv::CC_STAT_WIDTH), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
     const bool border = x == 0 || y == 0 || x + w == W || y + h == H;
-    is_clutter[i] = !border && stats.at<int>(i, cv::CC_STAT_AREA) <= max_px;
+    is_clutter[i] = !border && stats.at<int>(i, cv::CC_STAT_AREA) <= max_px && std::hypot(w, h) <= max_len_px;
   }
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)

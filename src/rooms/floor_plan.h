@@ -54,7 +54,9 @@ struct FloorPlanOptions {
   double door_min_height_m = 1.85;        // Lowest lintel underside above the floor, metres. > 0.
   double lintel_ceiling_gap_m = 0.15;     // A lintel ends at least this far below the ceiling, metres. >= 0.
   double wall_min_height_m = 2.0;         // An obstacle reaching this high above the floor is wall, metres.
-  double clutter_max_area_m2 = 1.0;       // 2D maps: obstacle islands up to this area are clutter, m². >= 0.
+  double clutter_max_area_m2 = 1.0;       // 2D maps: obstacle islands up to this area ... m². >= 0.
+  double clutter_max_length_m = 1.0;      // ... and this bounding-box diagonal are clutter (furniture), not
+                                          // wall fragments, metres. >= 0.
   int free_threshold = 250;               // 2D maps: grey values above this are free (as the ipa benchmark). [0, 254].
 
   bool Check(std::string* error) const;
@@ -66,7 +68,8 @@ FloorPlan FloorPlanFromVoxels(const VoxelGrid& grid, double floor_z, double ceil
                               const FloorPlanOptions& options);
 
 // From a grey 2D map (values > free_threshold free, the rest obstacles) at `resolution_m` per pixel.
-// Obstacle islands not touching the map's main walls and no larger than clutter_max_area_m2 become clutter.
+// Obstacle islands not touching the map's border, no larger than clutter_max_area_m2 and no longer than
+// clutter_max_length_m become clutter: chairs and tables, not the pieces of a broken wall.
 FloorPlan FloorPlanFromImage(const Image<uint8_t>& grey, double resolution_m, const FloorPlanOptions& options);
 
 // Reads a map image (PNG, PGM, ...; colour and alpha are converted to grey) for FloorPlanFromImage.

@@ -107,8 +107,9 @@ void SegmentByDistance(const RoomSegmentationOptions& o, double res, Workspace* 
   const float ratio = float(o.saddle_ratio);
   UnionFind uf;
   std::vector<float> peak;
+  const float ratio_larger = float(o.saddle_ratio_larger);
   auto should_merge = [&](float pa, float pb, float d) {  // pa >= pb: basin peaks; d: the pass.
-    return pb < min_radius_px || d > door_half_px || d >= ratio * pb;
+    return pb < min_radius_px || d > door_half_px || (d >= ratio * pb && d >= ratio_larger * pa);
   };
   int* label = ws->label.ptr<int>(0);  // Region index + 1 while flooding.
   for (int p : order) {
@@ -302,6 +303,8 @@ bool RoomSegmentationOptions::Check(std::string* error) const {
   if (!(door_max_width_m > 0)) return *error = Violated("door_max_width_m", door_max_width_m, "door_max_width_m > 0"), false;
   if (!(saddle_ratio > 0 && saddle_ratio <= 1))
     return *error = Violated("saddle_ratio", saddle_ratio, "0 < saddle_ratio <= 1"), false;
+  if (!(saddle_ratio_larger > 0 && saddle_ratio_larger <= 1))
+    return *error = Violated("saddle_ratio_larger", saddle_ratio_larger, "0 < saddle_ratio_larger <= 1"), false;
   if (!(min_room_radius_m >= 0))
     return *error = Violated("min_room_radius_m", min_room_radius_m, "min_room_radius_m >= 0"), false;
   if (!(min_room_area_m2 >= 0)) return *error = Violated("min_room_area_m2", min_room_area_m2, "min_room_area_m2 >= 0"), false;

@@ -39,7 +39,9 @@ struct RoomSegmentationOptions {
   RoomSegmentationMethod method = RoomSegmentationMethod::kDistanceWatershed;
   double door_max_width_m = 1.3;      // Widest opening that can separate two rooms, metres. > 0.
   double saddle_ratio = 0.7;          // distance: a pass separates rooms only when narrower than this
-                                      // fraction of the smaller room's inscribed radius. (0, 1].
+                                      // fraction of the smaller room's inscribed radius... (0, 1].
+  double saddle_ratio_larger = 0.5;   // distance: ... or than this fraction of the larger room's (a door
+                                      // from a narrow corridor into a big room). (0, 1].
   double min_room_radius_m = 0.6;     // distance: basins with a smaller inscribed radius never stay apart
                                       // (alcoves, niches, gaps between furniture), metres. >= 0.
   double min_room_area_m2 = 1.0;      // Smaller rooms merge into a neighbour, m². >= 0.
