@@ -1,0 +1,13 @@
+#include "crf/alpha_expansion_impl.h"
+#include "crf/max_flow.h"
+#include "crf/solvers.h"
+
+namespace semvox {
+
+Status MinimizeWithAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& options,
+                                  std::vector<CrfLabel>* labels, CrfSolverSummary* summary) {
+  MaxFlowGraph<double> graph;
+  return crf_internal::RunAlphaExpansion(energy, options, graph, labels, summary);
+}
+
+}  // namespace semvox

@@ -1,0 +1,292 @@
+// The alpha-expansion driver, templated on the max-flow graph so that the benchmark can run the same
+// moves on another max-flow implementation (bench/crf_bench.cc runs it on Boost's
+// boykov_kolmogorov_max_flow). Included by crf/alpha_expansion.cc and the benchmark only.
+//
+// Graph must provide: AddNodes(n), AddEdge(i, j, cap_ij, cap_ji) -> id (ids 0, 1, ...),
+// ResetTerminalCapacities(), SetEdgeCapacities(id, cap_ij, cap_ji), AddTerminalCapacities(node, s, t),
+// Solve() -> flow, InSinkSegment(node), MemoryBytes().
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <vector>
+
+#include "core/log.h"
+#include "crf/energy.h"
+#include "crf/robust_pn.h"
+#include "crf/solvers.h"
+
+namespace semvox::crf_internal {
+
+[[noreturn]] inline void ExpansionInvariantFailed(const std::string& what) {
+  std::fprintf(stderr, "semvox: alpha-expansion invariant violated: %s\n", what.c_str());
+  std::abort();
+}
+
+// Energy change when the nodes in `changed` (flag per node) move to alpha; exact, local.
+inline double ExpansionEnergyChange(const CrfEnergy& energy, const NodeIncidence& edge_incidence,
+                                    const NodeIncidence& clique_incidence,
+                                    std::span<const CrfLabel> labels, const std::vector<int>& changed_nodes,
+                                    const std::vector<uint8_t>& changed, CrfLabel alpha,
+                                    std::vector<int>* clique_stamp, int stamp,
+                                    std::vector<double>* old_weight, std::vector<double>* new_weight) {
+  double delta = 0;
+  const auto& edges = energy.edges();
+  for (int i : changed_nodes) {
+    delta += static_cast<double>(energy.unary(i, alpha)) - energy.unary(i, labels[i]);
+    for (int e : edge_incidence.Of(i)) {
+      const CrfEnergy::Edge& edge = edges[e];
+      const int other = edge.i == i ? edge.j : edge.i;
+      if (changed[other] && other < i) continue;  // Counted from the other end.
+      const CrfLabel ni = changed[edge.i] ? alpha : labels[edge.i];
+      const CrfLabel nj = changed[edge.j] ? alpha : labels[edge.j];
+      delta += static_cast<double>(energy.EdgeCost(edge, ni, nj)) - energy.EdgeCost(edge, labels[edge.i], labels[edge.j]);
+    }
+    for (int c : clique_incidence.Of(i)) {
+      if ((*clique_stamp)[c] == stamp) continue;
+      (*clique_stamp)[c] = stamp;
+      const auto nodes = energy.clique_nodes(c);
+      const auto weights = energy.clique_weights(c);
+      for (size_t k = 0; k < nodes.size(); ++k) {
+        const int v = nodes[k];
+        (*old_weight)[labels[v]] += weights[k];
+        (*new_weight)[changed[v] ? alpha : labels[v]] += weights[k];
+      }
+      delta += energy.CliquePotentialFromWeights(c, *new_weight) - energy.CliquePotentialFromWeights(c, *old_weight);
+      std::fill(old_weight->begin(), old_weight->end(), 0.0);
+      std::fill(new_weight->begin(), new_weight->end(), 0.0);
+    }
+  }
+  return delta;
+}
+
+template <typename Graph>
+Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& options, Graph& graph,
+                         std::vector<CrfLabel>* labels_out, CrfSolverSummary* summary) {
+  using Clock = std::chrono::steady_clock;
+  const auto t_start = Clock::now();
+  std::string error;
+  if (!options.Check(&error)) return Status::InvalidInput("AlphaExpansionOptions: " + error);
+  if (!energy.Check(&error)) return Status::InvalidInput("CrfEnergy: " + error);
+  SEMVOX_RETURN_IF_ERROR(InitializeLabels(energy, options.initial_labelling, labels_out));
+  std::vector<CrfLabel>& labels = *labels_out;
+  *summary = CrfSolverSummary();
+  summary->solver = "alpha-expansion";
+
+  const int N = energy.num_nodes();
+  const int L = energy.num_labels();
+  const int C = energy.num_cliques();
+  const auto& edges = energy.edges();
+  const int num_pairwise = static_cast<int>(edges.size());
+
+  // Fixed topology: CRF nodes 0..N-1, then per clique z = N + 2c and y = N + 2c + 1; edges in CRF order,
+  // then per clique and member k the arcs (member -> z) and (y -> member).
+  graph.AddNodes(N + 2 * C);
+  for (const CrfEnergy::Edge& e : edges) graph.AddEdge(e.i, e.j, 0, 0);
+  std::vector<int> clique_first_edge(C);
+  for (int c = 0, next_edge = num_pairwise; c < C; ++c) {
+    const int z = N + 2 * c, y = z + 1;
+    clique_first_edge[c] = next_edge;
+    for (int v : energy.clique_nodes(c)) {
+      graph.AddEdge(v, z, 0, 0);
+      graph.AddEdge(y, v, 0, 0);
+      next_edge += 2;
+    }
+  }
+  const NodeIncidence edge_incidence = energy.EdgeIncidence();
+  const NodeIncidence clique_incidence = energy.CliqueIncidence();
+
+  std::vector<double> delta(N + 2 * C);
+  std::vector<uint8_t> changed(N, 0);
+  std::vector<int> changed_nodes;
+  std::vector<int> clique_stamp(C, -1);
+  std::vector<double> scratch(L, 0.0), old_weight(L, 0.0), new_weight(L, 0.0);
+  std::vector<RobustPnMove> plans(C);
+
+  double current = energy.Evaluate(labels);
+  summary->initial_energy = current;
+  int64_t change_counter = 0;
+  std::vector<int64_t> unchanged_at(L, -1);  // change_counter when alpha's expansion last changed nothing.
+  std::vector<CrfLabel> order(L);
+  std::iota(order.begin(), order.end(), 0);
+  std::mt19937_64 rng(options.seed);
+  int stamp = 0;
+
+  for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
+    if (options.randomize_label_order) std::shuffle(order.begin(), order.end(), rng);
+    int64_t moves_in_sweep = 0;
+    for (const CrfLabel alpha : order) {
+      if (unchanged_at[alpha] == change_counter) {
+        ++summary->num_skipped_expansions;
+        continue;
+      }
+      // ---- Build the move energy: constant + sum_v delta_v t_v + edge terms.
+      graph.ResetTerminalCapacities();
+      double constant = 0;
+      int64_t truncated = 0;
+      for (int i = 0; i < N; ++i) {
+        const double keep = energy.unary(i, labels[i]);
+        constant += keep;
+        delta[i] = labels[i] == alpha ? 0.0 : energy.unary(i, alpha) - keep;
+      }
+      std::fill(delta.begin() + N, delta.end(), 0.0);
+      for (int e = 0; e < num_pairwise; ++e) {
+        const CrfEnergy::Edge& edge = edges[e];
+        const CrfLabel li = labels[edge.i], lj = labels[edge.j];
+        const bool fi = li == alpha, fj = lj == alpha;  // Fixed at alpha.
+        if (edge.model == CrfEnergy::kPottsModel) {
+          const double w = edge.weight;
+          if (fi && fj) {
+            graph.SetEdgeCapacities(e, 0, 0);
+          } else if (fj) {
+            constant += w;  // x_i = 0: [l_i != alpha] w; x_i = 1: 0.
+            delta[edge.i] -= w;
+            graph.SetEdgeCapacities(e, 0, 0);
+          } else if (fi) {
+            constant += w;
+            delta[edge.j] -= w;
+            graph.SetEdgeCapacities(e, 0, 0);
+          } else {
+            // A = w [li != lj], B = C = w, D = 0: E = A + (w - A) t_i - w t_j + (2w - A) (1 - t_i) t_j.
+            const double A = li != lj ? w : 0.0;
+            constant += A;
+            delta[edge.i] += w - A;
+            delta[edge.j] -= w;
+            graph.SetEdgeCapacities(e, 2 * w - A, 0);
+          }
+          continue;
+        }
+        const double D = energy.EdgeCost(edge, alpha, alpha);
+        if (fi && fj) {
+          constant += D;
+          graph.SetEdgeCapacities(e, 0, 0);
+        } else if (fj) {
+          const double A = energy.EdgeCost(edge, li, alpha);
+          constant += A;
+          delta[edge.i] += D - A;
+          graph.SetEdgeCapacities(e, 0, 0);
+        } else if (fi) {
+          const double A = energy.EdgeCost(edge, alpha, lj);
+          constant += A;
+          delta[edge.j] += D - A;
+          graph.SetEdgeCapacities(e, 0, 0);
+        } else {
+          const double A = energy.EdgeCost(edge, li, lj);
+          const double B = energy.EdgeCost(edge, li, alpha);
+          const double Cc = energy.EdgeCost(edge, alpha, lj);
+          double cap = B + Cc - A - D;
+          if (cap < 0) {  // Non-submodular: truncate (the move is verified below).
+            ++truncated;
+            cap = 0;
+          }
+          constant += A;
+          delta[edge.i] += Cc - A;
+          delta[edge.j] += D - Cc;
+          graph.SetEdgeCapacities(e, cap, 0);
+        }
+      }
+      for (int c = 0; c < C; ++c) {
+        const RobustPnMove plan = PlanRobustPnMove(energy, c, labels, alpha, &scratch);
+        plans[c] = plan;
+        const int z = N + 2 * c, y = z + 1;
+        constant += plan.constant;
+        if (plan.alpha_slope > 0) {  // Q [z = 0] = Q - Q z.
+          constant += plan.alpha_aux_cost;
+          delta[z] -= plan.alpha_aux_cost;
+        }
+        if (plan.dominant >= 0) delta[y] += plan.dominant_aux_cost;
+        const auto nodes = energy.clique_nodes(c);
+        const auto weights = energy.clique_weights(c);
+        int e = clique_first_edge[c];
+        for (size_t k = 0; k < nodes.size(); ++k, e += 2) {
+          const CrfLabel x = labels[nodes[k]];
+          graph.SetEdgeCapacities(e, x != alpha ? plan.alpha_slope * weights[k] : 0.0, 0);
+          graph.SetEdgeCapacities(e + 1, x == plan.dominant ? plan.dominant_slope * weights[k] : 0.0, 0);
+        }
+      }
+      for (int v = 0; v < N + 2 * C; ++v) {
+        const double d = delta[v];
+        if (d > 0) {
+          graph.AddTerminalCapacities(v, d, 0);
+        } else if (d < 0) {
+          graph.AddTerminalCapacities(v, 0, -d);
+          constant += d;
+        }
+      }
+      // ---- Cut.
+      const auto t_flow = Clock::now();
+      const double flow = static_cast<double>(graph.Solve());
+      summary->max_flow_seconds += std::chrono::duration<double>(Clock::now() - t_flow).count();
+      ++summary->num_expansions;
+      summary->num_truncated_terms += truncated;
+
+      changed_nodes.clear();
+      for (int i = 0; i < N; ++i) {
+        if (labels[i] != alpha && graph.InSinkSegment(i)) {
+          changed[i] = 1;
+          changed_nodes.push_back(i);
+        }
+      }
+      const double change = ExpansionEnergyChange(energy, edge_incidence, clique_incidence, labels, changed_nodes,
+                                                  changed, alpha, &clique_stamp, stamp++, &old_weight, &new_weight);
+      const double tolerance = options.consistency_tolerance * (1.0 + std::abs(current));
+      if (truncated == 0) {
+        // The cut value is the move energy of the chosen move; the move "keep everything" costs `current`.
+        const double predicted = constant + flow;
+        if (std::abs(predicted - (current + change)) > tolerance || change > tolerance) {
+          std::ostringstream os;
+          os << "expansion of label " << alpha << ": energy " << current << " -> " << current + change
+             << " but the cut predicts " << predicted << " (" << changed_nodes.size() << " nodes changed)";
+          ExpansionInvariantFailed(os.str());
+        }
+      }
+      const bool improves = change < -1e-12 * (1.0 + std::abs(current));
+      if (improves) {
+        for (int i : changed_nodes) labels[i] = alpha;
+        current += change;
+        ++change_counter;
+        ++moves_in_sweep;
+        ++summary->num_moves;
+      } else {
+        if (!changed_nodes.empty() && change > 0) ++summary->num_rejected_moves;
+        unchanged_at[alpha] = change_counter;
+      }
+      for (int i : changed_nodes) changed[i] = 0;
+      summary->energy_per_expansion.push_back(current);
+      summary->expansion_labels.push_back(alpha);
+      if (options.log_expansions) {
+        SEMVOX_LOG(kDebug, "alpha-expansion sweep " << sweep + 1 << " label " << alpha << ": E = " << current
+                                                    << (improves ? "" : " (no change)") << ", "
+                                                    << (improves ? changed_nodes.size() : 0) << " nodes changed");
+      }
+    }
+    // Exact re-evaluation at the end of each sweep (no drift from the incremental sums).
+    const double exact = energy.Evaluate(labels);
+    if (exact > summary->initial_energy + options.consistency_tolerance * (1.0 + std::abs(summary->initial_energy)) ||
+        (!summary->energy_per_sweep.empty() &&
+         exact > summary->energy_per_sweep.back() + options.consistency_tolerance * (1.0 + std::abs(exact)))) {
+      ExpansionInvariantFailed("energy rose over a sweep");
+    }
+    current = exact;
+    summary->energy_per_sweep.push_back(exact);
+    summary->num_sweeps = sweep + 1;
+    SEMVOX_LOG(kDebug, "alpha-expansion sweep " << sweep + 1 << ": E = " << exact << ", " << moves_in_sweep
+                                                << " moves");
+    if (moves_in_sweep == 0) {
+      summary->converged = true;
+      break;
+    }
+  }
+  summary->final_energy = current;
+  summary->graph_bytes = graph.MemoryBytes();
+  summary->seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
+  return Status::Ok();
+}
+
+}  // namespace semvox::crf_internal

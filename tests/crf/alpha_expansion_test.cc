@@ -1,0 +1,248 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "crf/energy.h"
+#include "crf/solvers.h"
+#include "tests/crf/crf_test_util.h"
+
+namespace semvox {
+namespace {
+
+using testing::BruteForceMinimum;
+using testing::MakeRandomEnergy;
+using testing::RandomEnergySpec;
+
+std::vector<CrfLabel> RandomLabels(int n, int L, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<CrfLabel> x(n);
+  for (CrfLabel& l : x) l = static_cast<CrfLabel>(rng() % L);
+  return x;
+}
+
+void ExpectMonotone(const CrfSolverSummary& s, const std::string& what) {
+  double previous = s.initial_energy;
+  for (size_t k = 0; k < s.energy_per_expansion.size(); ++k) {
+    ASSERT_LE(s.energy_per_expansion[k], previous + 1e-9 * (1 + std::abs(previous))) << what << " expansion " << k;
+    previous = s.energy_per_expansion[k];
+  }
+  previous = s.initial_energy;
+  for (size_t k = 0; k < s.energy_per_sweep.size(); ++k) {
+    ASSERT_LE(s.energy_per_sweep[k], previous + 1e-9 * (1 + std::abs(previous))) << what << " sweep " << k;
+    previous = s.energy_per_sweep[k];
+  }
+  ASSERT_LE(s.final_energy, s.initial_energy + 1e-9 * (1 + std::abs(s.initial_energy))) << what;
+}
+
+TEST(AlphaExpansion, NeverIncreasesEnergy) {
+  int problems = 0;
+  for (uint64_t seed = 0; seed < 400; ++seed) {
+    RandomEnergySpec spec;
+    spec.num_nodes = 5 + static_cast<int>(seed % 40);
+    spec.num_labels = 2 + static_cast<int>(seed % 5);
+    spec.edge_probability = 0.05 + 0.05 * static_cast<double>(seed % 6);
+    spec.num_cliques = static_cast<int>(seed % 4);
+    spec.metric_model = seed % 3 == 1;
+    spec.nonmetric_model = seed % 5 == 2;  // Truncated moves, rejected when they would raise E.
+    spec.weighted_cliques = seed % 2 == 1;
+    spec.negative_unaries = seed % 7 == 3;
+    const CrfEnergy energy = MakeRandomEnergy(spec, seed);
+    ASSERT_TRUE(energy.Check(nullptr));
+    AlphaExpansionOptions options;
+    options.initial_labelling = InitialLabelling::kGiven;
+    options.randomize_label_order = seed % 2 == 0;
+    options.seed = seed;
+    std::vector<CrfLabel> labels = RandomLabels(spec.num_nodes, spec.num_labels, seed + 99);
+    CrfSolverSummary summary;
+    ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, options, &labels, &summary).ok());
+    ExpectMonotone(summary, "seed " + std::to_string(seed));
+    EXPECT_NEAR(summary.final_energy, energy.Evaluate(labels), 1e-9 * (1 + std::abs(summary.final_energy)));
+    EXPECT_TRUE(summary.converged);
+    ++problems;
+  }
+  EXPECT_EQ(problems, 400);
+}
+
+// Two labels, submodular pairwise terms (Potts, metric) and Robust P^n cliques (concave in the count,
+// hence submodular): a labelling that no expansion improves is a global minimum.
+TEST(AlphaExpansion, EqualsBruteForceMinimumForTwoLabelsSubmodular) {
+  for (uint64_t seed = 0; seed < 150; ++seed) {
+    RandomEnergySpec spec;
+    spec.num_nodes = 3 + static_cast<int>(seed % 11);  // Up to 13 nodes: 8192 labellings.
+    spec.num_labels = 2;
+    spec.edge_probability = 0.2 + 0.1 * static_cast<double>(seed % 4);
+    spec.num_cliques = static_cast<int>(seed % 3);
+    spec.metric_model = seed % 2 == 0;
+    spec.weighted_cliques = seed % 4 == 1;
+    spec.negative_unaries = seed % 3 == 0;
+    const CrfEnergy energy = MakeRandomEnergy(spec, 1000 + seed);
+    for (InitialLabelling init : {InitialLabelling::kUnaryArgmin, InitialLabelling::kAllZero}) {
+      AlphaExpansionOptions options;
+      options.initial_labelling = init;
+      std::vector<CrfLabel> labels;
+      CrfSolverSummary summary;
+      ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, options, &labels, &summary).ok());
+      const double optimum = BruteForceMinimum(energy);
+      EXPECT_NEAR(summary.final_energy, optimum, 1e-6) << "seed " << seed;
+      EXPECT_EQ(summary.num_truncated_terms, 0);
+    }
+  }
+}
+
+// Boykov, Veksler & Zabih 2001, Thm. 6.1: with a metric V and non-negative unaries, the expansion local
+// minimum is within 2 c of the optimum, c = max_{a != b} V(a, b) / min_{a != b} V(a, b) (1 for Potts).
+TEST(AlphaExpansion, WithinTheKnownFactorOfTheOptimumForMetricPairwise) {
+  int strictly_suboptimal = 0;
+  for (uint64_t seed = 0; seed < 120; ++seed) {
+    RandomEnergySpec spec;
+    spec.num_nodes = 4 + static_cast<int>(seed % 5);  // Up to 8 nodes.
+    spec.num_labels = 3 + static_cast<int>(seed % 2);  // 3^8 or 4^8 labellings at most.
+    spec.edge_probability = 0.5;
+    spec.metric_model = seed % 2 == 1;
+    const CrfEnergy energy = MakeRandomEnergy(spec, 2000 + seed);
+    double c = 1;
+    for (int m = 1; m < energy.num_models(); ++m) {
+      ASSERT_TRUE(energy.IsMetric(m));
+      double lo = 1e30, hi = 0;
+      for (int a = 0; a < spec.num_labels; ++a)
+        for (int b = 0; b < spec.num_labels; ++b)
+          if (a != b) {
+            lo = std::min<double>(lo, energy.ModelCost(m, a, b));
+            hi = std::max<double>(hi, energy.ModelCost(m, a, b));
+          }
+      c = std::max(c, hi / lo);
+    }
+    AlphaExpansionOptions options;
+    std::vector<CrfLabel> labels;
+    CrfSolverSummary summary;
+    ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, options, &labels, &summary).ok());
+    const double optimum = BruteForceMinimum(energy);
+    EXPECT_GE(summary.final_energy, optimum - 1e-9);
+    EXPECT_LE(summary.final_energy, 2 * c * optimum + 1e-9) << "seed " << seed;
+    if (summary.final_energy > optimum + 1e-9) ++strictly_suboptimal;
+  }
+  // Random small problems are mostly solved exactly; the factor is a bound, not the typical gap.
+  EXPECT_LT(strictly_suboptimal, 60);
+}
+
+// Whatever the terms, the result admits no improving expansion move: checked by enumerating every move
+// of every label. This verifies the graph construction (pairwise and Robust P^n) and the max-flow together.
+TEST(AlphaExpansion, ResultIsOptimalForEveryExpansionMove) {
+  for (uint64_t seed = 0; seed < 80; ++seed) {
+    RandomEnergySpec spec;
+    spec.num_nodes = 4 + static_cast<int>(seed % 8);
+    spec.num_labels = 2 + static_cast<int>(seed % 4);
+    spec.edge_probability = 0.35;
+    spec.num_cliques = 1 + static_cast<int>(seed % 3);
+    spec.metric_model = seed % 2 == 0;
+    spec.weighted_cliques = seed % 3 == 0;
+    const CrfEnergy energy = MakeRandomEnergy(spec, 3000 + seed);
+    AlphaExpansionOptions options;
+    options.initial_labelling = InitialLabelling::kGiven;
+    std::vector<CrfLabel> labels = RandomLabels(spec.num_nodes, spec.num_labels, seed);
+    CrfSolverSummary summary;
+    ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, options, &labels, &summary).ok());
+    const double e = energy.Evaluate(labels);
+    const int n = spec.num_nodes;
+    for (CrfLabel alpha = 0; alpha < spec.num_labels; ++alpha) {
+      for (uint32_t mask = 0; mask < (1u << n); ++mask) {
+        std::vector<CrfLabel> moved = labels;
+        for (int k = 0; k < n; ++k)
+          if ((mask >> k) & 1) moved[k] = alpha;
+        ASSERT_GE(energy.Evaluate(moved), e - 1e-9 * (1 + std::abs(e))) << "seed " << seed << " alpha " << alpha;
+      }
+    }
+  }
+}
+
+TEST(AlphaExpansion, RobustPnCliqueMakesAGroupAgree) {
+  // Ten nodes on a chain, unaries weakly prefer label 1 on three of them, label 0 elsewhere; no pairwise
+  // terms. A clique over all of them with a strong consistency reward relabels the minority.
+  CrfEnergy energy(10, 2);
+  for (int i = 0; i < 10; ++i) {
+    const bool minority = i == 2 || i == 5 || i == 7;
+    energy.SetUnary(i, 0, minority ? 0.3f : 0.0f);
+    energy.SetUnary(i, 1, minority ? 0.0f : 0.3f);
+  }
+  std::vector<int> all(10);
+  for (int i = 0; i < 10; ++i) all[i] = i;
+  RobustPnParams p;
+  p.gamma_max = 5;
+  p.truncation_q = 5;
+  energy.AddRobustPnClique(all, p);
+  std::vector<CrfLabel> labels;
+  CrfSolverSummary summary;
+  ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, AlphaExpansionOptions(), &labels, &summary).ok());
+  EXPECT_EQ(labels, std::vector<CrfLabel>(10, 0));
+  EXPECT_NEAR(summary.final_energy, 0.9, 1e-6);
+}
+
+TEST(AlphaExpansion, DeterministicForAGivenSeed) {
+  RandomEnergySpec spec;
+  spec.num_nodes = 300;
+  spec.num_labels = 6;
+  spec.edge_probability = 0.02;
+  spec.num_cliques = 3;
+  const CrfEnergy energy = MakeRandomEnergy(spec, 77);
+  AlphaExpansionOptions options;
+  options.randomize_label_order = true;
+  options.seed = 42;
+  std::vector<CrfLabel> a, b;
+  CrfSolverSummary sa, sb;
+  ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, options, &a, &sa).ok());
+  ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, options, &b, &sb).ok());
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(sa.energy_per_expansion, sb.energy_per_expansion);
+}
+
+TEST(AlphaExpansion, BadOptionsNameTheField) {
+  CrfEnergy energy(3, 2);
+  AlphaExpansionOptions options;
+  options.max_sweeps = 0;
+  std::vector<CrfLabel> labels;
+  CrfSolverSummary summary;
+  const Status st = MinimizeWithAlphaExpansion(energy, options, &labels, &summary);
+  EXPECT_EQ(st.code(), StatusCode::kInvalidInput);
+  EXPECT_NE(st.message().find("max_sweeps = 0"), std::string::npos) << st.message();
+}
+
+TEST(AlphaExpansion, BadGivenLabelsAreRejected) {
+  CrfEnergy energy(3, 2);
+  AlphaExpansionOptions options;
+  options.initial_labelling = InitialLabelling::kGiven;
+  std::vector<CrfLabel> labels{0, 2, 1};
+  CrfSolverSummary summary;
+  const Status st = MinimizeWithAlphaExpansion(energy, options, &labels, &summary);
+  EXPECT_EQ(st.code(), StatusCode::kInvalidInput);
+  EXPECT_NE(st.message().find("node 1 has label 2"), std::string::npos) << st.message();
+}
+
+TEST(AlphaExpansion, PottsGridRecoversBlocksAndBeatsIcm) {
+  // A 40 x 30 grid, 5 labels, noisy unaries around a blocky ground truth.
+  const int w = 40, h = 30, L = 5;
+  CrfEnergy energy(w * h, L);
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int truth = (x / 10 + y / 10) % L;
+      for (int l = 0; l < L; ++l) energy.SetUnary(y * w + x, l, (l == truth ? 0.0f : 0.6f) + unit(rng));
+      if (x + 1 < w) energy.AddEdge(y * w + x, y * w + x + 1, 0.5f);
+      if (y + 1 < h) energy.AddEdge(y * w + x, (y + 1) * w + x, 0.5f);
+    }
+  std::vector<CrfLabel> labels, icm_labels;
+  CrfSolverSummary summary, icm;
+  ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, AlphaExpansionOptions(), &labels, &summary).ok());
+  ASSERT_TRUE(MinimizeWithIcm(energy, IcmOptions(), &icm_labels, &icm).ok());
+  EXPECT_LT(summary.final_energy, icm.final_energy);
+  EXPECT_LT(summary.final_energy, summary.initial_energy);
+  ExpectMonotone(summary, "grid");
+  int correct = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) correct += labels[y * w + x] == (x / 10 + y / 10) % L;
+  EXPECT_GT(correct, 0.95 * w * h);
+}
+
+}  // namespace
+}  // namespace semvox
