@@ -1,0 +1,250 @@
+#include "scenegen/apartment_io.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "core/file_util.h"
+#include "core/labels.h"
+#include "core/mesh_ply.h"
+#include "io/image_io.h"
+
+namespace semvox {
+namespace fs = std::filesystem;
+
+bool FloorGrid::PixelOf(double x, double y, int* c, int* r) const {
+  const long cc = long(std::floor((x - origin_x) / resolution));
+  const long rr = long(height) - 1 - long(std::floor((y - origin_y) / resolution));
+  if (cc < 0 || rr < 0 || cc >= width || rr >= height) return false;
+  *c = int(cc), *r = int(rr);
+  return true;
+}
+
+bool GroundTruthOptions::Check(std::string* error) const {
+  std::ostringstream os;
+  if (!(resolution_m > 0)) os << "resolution_m = " << resolution_m << ". Violated constraint: > 0";
+  else if (!(margin_m >= 0)) os << "margin_m = " << margin_m << ". Violated constraint: >= 0";
+  else if (!(band_max_above_floor_m > band_min_above_floor_m))
+    os << "band_max_above_floor_m = " << band_max_above_floor_m << ". Violated constraint: > band_min_above_floor_m";
+  if (os.str().empty()) return true;
+  if (error) *error = os.str();
+  return false;
+}
+
+FloorGrid MakeFloorGrid(const Apartment& apt, const GroundTruthOptions& o) {
+  FloorGrid g;
+  g.resolution = o.resolution_m;
+  const double res = o.resolution_m;
+  g.origin_x = std::floor((apt.bounds.min.x() - o.margin_m) / res) * res;
+  g.origin_y = std::floor((apt.bounds.min.y() - o.margin_m) / res) * res;
+  g.width = int(std::ceil((apt.bounds.max.x() + o.margin_m - g.origin_x) / res));
+  g.height = int(std::ceil((apt.bounds.max.y() + o.margin_m - g.origin_y) / res));
+  return g;
+}
+
+ImageU16 RasterizeRooms(const Apartment& apt, const FloorGrid& g) {
+  ImageU16 img(g.width, g.height, 1, 0);
+  for (const RoomGt& room : apt.rooms)
+    for (int r = 0; r < g.height; ++r) {
+      const double y = g.CenterY(r);
+      if (y < room.y0 || y >= room.y1) continue;
+      for (int c = 0; c < g.width; ++c) {
+        const double x = g.CenterX(c);
+        if (x >= room.x0 && x < room.x1) img.at(c, r) = uint16_t(room.id);
+      }
+    }
+  return img;
+}
+
+ImageU16 RasterizeTopView(const Apartment& apt, const FloorGrid& g, const GroundTruthOptions& o) {
+  ImageU16 img(g.width, g.height, 1, 0);
+  std::vector<double> best_top(size_t(g.width) * g.height, -1e9), best_area(size_t(g.width) * g.height, 0);
+  const double lo = apt.floor_z_m + o.band_min_above_floor_m, hi = apt.floor_z_m + o.band_max_above_floor_m;
+  for (const SolidPart& p : apt.parts) {
+    const OrientedBox& b = p.box;
+    const double z0 = b.center.z() - b.size.z() / 2, z1 = b.center.z() + b.size.z() / 2;
+    if (z1 <= lo || z0 >= hi) continue;
+    const double top = std::min(z1, hi), area = b.size.x() * b.size.y();
+    const double cs = std::cos(b.yaw_rad), sn = std::sin(b.yaw_rad);
+    const double ex = std::fabs(cs) * b.size.x() / 2 + std::fabs(sn) * b.size.y() / 2;
+    const double ey = std::fabs(sn) * b.size.x() / 2 + std::fabs(cs) * b.size.y() / 2;
+    int c0, r0, c1, r1;
+    if (!g.PixelOf(std::max(b.center.x() - ex, g.origin_x), std::min(b.center.y() + ey, g.origin_y + g.height * g.resolution - 1e-9), &c0, &r0) ||
+        !g.PixelOf(std::min(b.center.x() + ex, g.origin_x + g.width * g.resolution - 1e-9), std::max(b.center.y() - ey, g.origin_y), &c1, &r1))
+      continue;
+    for (int r = r0; r <= r1; ++r)
+      for (int c = c0; c <= c1; ++c) {
+        const double dx = g.CenterX(c) - b.center.x(), dy = g.CenterY(r) - b.center.y();
+        const double lx = cs * dx + sn * dy, ly = -sn * dx + cs * dy;
+        if (std::fabs(lx) > b.size.x() / 2 || std::fabs(ly) > b.size.y() / 2) continue;
+        const size_t i = size_t(r) * g.width + c;
+        // The highest solid wins; at equal height the smaller one (what stands on or in the larger).
+        if (top > best_top[i] + 1e-9 || (std::fabs(top - best_top[i]) <= 1e-9 && area < best_area[i])) {
+          best_top[i] = top;
+          best_area[i] = area;
+          img.at(c, r) = uint16_t(p.label);
+        }
+      }
+  }
+  return img;
+}
+
+ImageRgb8 RenderPreview(const Apartment& apt, const ImageU16& rooms, const ImageU16& topview, int scale) {
+  const auto& labels = Nyu40Labels();
+  // Room-type tints (pastel), indexed by type id.
+  static const Rgb8 kTint[kNumRoomTypes] = {{255, 255, 255}, {200, 230, 255}, {255, 220, 220}, {255, 235, 200},
+                                            {230, 230, 230}, {240, 220, 255}, {255, 250, 200}, {210, 255, 240},
+                                            {220, 255, 210}, {255, 225, 245}, {235, 235, 210}, {225, 215, 200},
+                                            {245, 245, 245}};
+  ImageRgb8 img(rooms.width * scale, rooms.height * scale, 3, 255);
+  for (int r = 0; r < rooms.height; ++r)
+    for (int c = 0; c < rooms.width; ++c) {
+      Rgb8 col{255, 255, 255};
+      const int id = rooms.at(c, r);
+      if (id > 0 && id <= int(apt.rooms.size())) col = kTint[apt.rooms[size_t(id - 1)].type_id];
+      const int l = topview.at(c, r);
+      if (l == nyu40::kWall) col = Rgb8{60, 60, 60};
+      else if (l > 0 && l < kNumNyu40) col = labels[size_t(l)].color;
+      for (int y = 0; y < scale; ++y)
+        for (int x = 0; x < scale; ++x) {
+          img.at(c * scale + x, r * scale + y, 0) = col.r;
+          img.at(c * scale + x, r * scale + y, 1) = col.g;
+          img.at(c * scale + x, r * scale + y, 2) = col.b;
+        }
+    }
+  return img;
+}
+
+namespace {
+double R4(double v) { return std::round(v * 1e4) / 1e4; }
+}  // namespace
+
+std::string GroundTruthJson(const Apartment& apt, const FloorGrid& g, const GroundTruthOptions& go,
+                            const ApartmentOptions& options, const ScanArtefactOptions& art, bool with_cloud) {
+  using nlohmann::ordered_json;
+  const auto& labels = Nyu40Labels();
+  const auto& types = RoomTypes();
+  ordered_json j;
+  j["format"] = "semvox-apartment-gt";
+  j["version"] = 1;
+  j["seed"] = apt.seed;
+  j["floor_z_m"] = R4(apt.floor_z_m);
+  j["ceiling_z_m"] = R4(apt.ceiling_z_m);
+  j["interior_wall_m"] = R4(apt.interior_wall_m);
+  j["exterior_wall_m"] = R4(apt.exterior_wall_m);
+  j["topview_band_above_floor_m"] = {R4(go.band_min_above_floor_m), R4(go.band_max_above_floor_m)};
+  const ordered_json grid = {{"resolution", R4(g.resolution)}, {"origin", {R4(g.origin_x), R4(g.origin_y)}},
+                             {"width", g.width}, {"height", g.height}};
+  j["rooms_gt"] = grid;
+  j["rooms_gt"]["image"] = "rooms_gt.png";
+  j["topview_gt"] = grid;
+  j["topview_gt"]["image"] = "topview_gt.png";
+  j["files"] = {{"mesh", "mesh.ply"}, {"gt_mesh", "gt_mesh.ply"}};
+  if (with_cloud) j["files"]["cloud"] = "cloud.ply";
+  ordered_json rooms = ordered_json::array();
+  for (const RoomGt& r : apt.rooms) {
+    rooms.push_back({{"id", r.id},
+                     {"type_id", r.type_id},
+                     {"type", types[size_t(r.type_id)].name},
+                     {"polygon", {{R4(r.x0), R4(r.y0)}, {R4(r.x1), R4(r.y0)}, {R4(r.x1), R4(r.y1)}, {R4(r.x0), R4(r.y1)}}},
+                     {"area_m2", R4(r.area_m2())},
+                     {"open_to", r.open_to}});
+  }
+  j["rooms"] = rooms;
+  ordered_json doors = ordered_json::array();
+  for (const DoorGt& d : apt.doors)
+    doors.push_back({{"rooms", {d.room_a, d.room_b}}, {"center", {R4(d.center.x()), R4(d.center.y())}},
+                     {"wall_along", d.along_x ? "x" : "y"}, {"width_m", R4(d.width_m)}, {"height_m", R4(d.height_m)},
+                     {"wall_thickness_m", R4(d.wall_thickness_m)}});
+  j["doors"] = doors;
+  ordered_json windows = ordered_json::array();
+  for (const WindowGt& w : apt.windows)
+    windows.push_back({{"room", w.room}, {"center", {R4(w.center.x()), R4(w.center.y())}}, {"wall_along", w.along_x ? "x" : "y"},
+                       {"width_m", R4(w.width_m)}, {"sill_m", R4(w.sill_m)}, {"top_m", R4(w.top_m)}});
+  j["windows"] = windows;
+  ordered_json objects = ordered_json::array();
+  std::map<std::string, int> per_class;
+  for (const ObjectGt& o : apt.objects) {
+    objects.push_back({{"instance", o.instance},
+                       {"label", o.label},
+                       {"class", labels[size_t(o.label)].name},
+                       {"room", o.room},
+                       {"on", o.support_of},
+                       {"box", {{"center", {R4(o.box.center.x()), R4(o.box.center.y()), R4(o.box.center.z())}},
+                                {"size", {R4(o.box.size.x()), R4(o.box.size.y()), R4(o.box.size.z())}},
+                                {"yaw_rad", R4(o.box.yaw_rad)}}}});
+    ++per_class[labels[size_t(o.label)].name];
+  }
+  j["objects"] = objects;
+  j["counts"] = {{"rooms", apt.rooms.size()}, {"objects", apt.objects.size()}, {"gt_mesh_faces", apt.mesh.faces.size()},
+                 {"objects_per_class", per_class}};
+  j["generator_options"] = {{"seed", options.seed}, {"min_rooms", options.min_rooms}, {"max_rooms", options.max_rooms},
+                            {"floor_z_m", options.floor_z_m}, {"min_ceiling_m", options.min_ceiling_m},
+                            {"max_ceiling_m", options.max_ceiling_m}, {"min_wall_m", options.min_wall_m},
+                            {"max_wall_m", options.max_wall_m}, {"surface_cell_m", options.surface_cell_m},
+                            {"furniture", options.furniture}, {"props", options.props}};
+  j["artefact_options"] = {{"remove_hidden", art.remove_hidden}, {"hidden_margin_m", art.hidden_margin_m},
+                           {"holes_per_m2", art.holes_per_m2}, {"min_hole_radius_m", art.min_hole_radius_m},
+                           {"max_hole_radius_m", art.max_hole_radius_m},
+                           {"unscanned_ceiling_fraction", art.unscanned_ceiling_fraction},
+                           {"face_dropout", art.face_dropout}, {"vertex_noise_m", art.vertex_noise_m},
+                           {"roughness_m", art.roughness_m}, {"roughness_wavelength_m", art.roughness_wavelength_m}};
+  return j.dump(2) + "\n";
+}
+
+Status WriteApartment(const std::string& dir, const Apartment& apt, const ApartmentOptions& options,
+                      const ScanArtefactOptions& artefacts, const GroundTruthOptions& go, bool with_cloud) {
+  std::string error;
+  if (!artefacts.Check(&error)) return Status::InvalidInput("scan artefact options: " + error);
+  if (!go.Check(&error)) return Status::InvalidInput("ground truth options: " + error);
+  SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(dir));
+  const fs::path d(dir);
+  const std::string comment = "semvox generated apartment seed " + std::to_string(apt.seed) +
+                              "; face label = NYU40 id, instance = object, room = gt.json room id";
+  SEMVOX_RETURN_IF_ERROR(WriteMeshPly((d / "mesh.ply").string(), ApplyScanArtefacts(apt, artefacts), comment + "; scan artefacts"));
+  SEMVOX_RETURN_IF_ERROR(WriteMeshPly((d / "gt_mesh.ply").string(), apt.mesh, comment + "; clean"));
+  const FloorGrid grid = MakeFloorGrid(apt, go);
+  const ImageU16 rooms = RasterizeRooms(apt, grid), topview = RasterizeTopView(apt, grid, go);
+  SEMVOX_RETURN_IF_ERROR(WriteImage((d / "rooms_gt.png").string(), rooms));
+  SEMVOX_RETURN_IF_ERROR(WriteImage((d / "topview_gt.png").string(), topview));
+  SEMVOX_RETURN_IF_ERROR(WriteImage((d / "preview.png").string(), RenderPreview(apt, rooms, topview, 3)));
+  return WriteFileAtomic((d / "gt.json").string(), GroundTruthJson(apt, grid, go, options, artefacts, with_cloud));
+}
+
+Result<GroundTruth> ReadGroundTruth(const std::string& dir) {
+  const std::string path = (fs::path(dir) / "gt.json").string();
+  std::string bytes;
+  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  GroundTruth gt;
+  gt.dir = dir;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(bytes);
+    if (j.value("format", "") != "semvox-apartment-gt")
+      return Status::InvalidInput(FileError(path, "not a semvox ground-truth file (format != semvox-apartment-gt)",
+                                            "pass a directory written by `semvox generate --seed N`"));
+    gt.floor_z_m = j.at("floor_z_m").get<double>();
+    gt.ceiling_z_m = j.at("ceiling_z_m").get<double>();
+    gt.band_min_above_floor_m = j.at("topview_band_above_floor_m").at(0).get<double>();
+    gt.band_max_above_floor_m = j.at("topview_band_above_floor_m").at(1).get<double>();
+    const auto& g = j.at("rooms_gt");
+    gt.grid.resolution = g.at("resolution").get<double>();
+    gt.grid.origin_x = g.at("origin").at(0).get<double>();
+    gt.grid.origin_y = g.at("origin").at(1).get<double>();
+    gt.grid.width = g.at("width").get<int>();
+    gt.grid.height = g.at("height").get<int>();
+    gt.rooms_image = (fs::path(dir) / g.at("image").get<std::string>()).string();
+    gt.topview_image = (fs::path(dir) / j.at("topview_gt").at("image").get<std::string>()).string();
+    gt.gt_mesh = (fs::path(dir) / j.at("files").at("gt_mesh").get<std::string>()).string();
+    for (const auto& r : j.at("rooms")) gt.rooms.push_back({r.at("id").get<int>(), r.at("type_id").get<int>(), r.at("type").get<std::string>()});
+  } catch (const nlohmann::json::exception& e) {
+    return Status::InvalidInput(FileError(path, std::string("malformed ground truth: ") + e.what(),
+                                          "regenerate it with `semvox generate --seed N`"));
+  }
+  return gt;
+}
+
+}  // namespace semvox
