@@ -81,7 +81,7 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, saddle_ratio_larger, 0.01, 1, "distance: ... or of the larger room's inscribed radius"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, min_room_radius_m, 0, 10, "distance: rooms need at least this inscribed radius, metres"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, min_room_area_m2, 0, 1000, "smaller rooms merge into a neighbour, m2"));
-    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, max_room_area_m2, 0.1, 1e6, "morphological: eroded parts up to this area become rooms, m2"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, min_seed_area_m2, 0.01, 1000, "morphological: pieces split by the erosion stay rooms when both cover this, m2"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, max_speck_distance_m, 0, 10, "unreached free cells join the nearest room within this, metres"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, door_min_width_m, 0.1, 10, "narrowest door opening, metres"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, door_max_width_m, 0.1, 10, "widest door opening (lintel detection), metres"));

@@ -79,39 +79,36 @@ struct UnionFind {
   }
 };
 
-// Distance-transform watershed with doorway-aware merging (see the header).
-void SegmentByDistance(const RoomSegmentationOptions& o, double res, Workspace* ws) {
+// Floods the room space from the maxima of `dist` downwards (a watershed by union-find): a cell joins
+// the basins of its processed neighbours; where basins meet, `keep_apart(a, b, level)` decides whether
+// they stay separate (the cell then joins the basin with the higher peak). Leaves basin labels in
+// ws->label.
+struct Basin {
+  float peak = 0;    // Highest value of `dist` in the basin.
+  int64_t area = 0;  // Cells flooded so far (the basin's area above the current level).
+};
+template <typename KeepApart>
+void Flood(const cv::Mat1f& dist, KeepApart keep_apart, Workspace* ws) {
   const int W = ws->space.cols, H = ws->space.rows;
-  cv::Mat1b inner = ws->space & ~ws->door;
-  cv::Mat1f dist;
-  cv::distanceTransform(inner, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-
   // Space cells in order of decreasing distance (counting sort on 1/8 px steps).
   constexpr float kBucketsPerPixel = 8.f;
   double max_d = 0;
   cv::minMaxLoc(dist, nullptr, &max_d);
   const int num_buckets = int(max_d * kBucketsPerPixel) + 2;
-  std::vector<int> count(num_buckets + 1, 0);
+  auto bucket = [&](int x, int y) { return num_buckets - 1 - int(dist(y, x) * kBucketsPerPixel); };
+  std::vector<int> start(num_buckets + 1, 0);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)
-      if (ws->space(y, x)) ++count[num_buckets - 1 - int(dist(y, x) * kBucketsPerPixel)];
-  std::vector<int> start(num_buckets + 1, 0);
-  for (int b = 0; b < num_buckets; ++b) start[b + 1] = start[b] + count[b];
+      if (ws->space(y, x)) ++start[bucket(x, y) + 1];
+  for (int b = 0; b < num_buckets; ++b) start[b + 1] += start[b];
   std::vector<int> order(start[num_buckets]);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)
-      if (ws->space(y, x)) order[start[num_buckets - 1 - int(dist(y, x) * kBucketsPerPixel)]++] = y * W + x;
+      if (ws->space(y, x)) order[start[bucket(x, y)]++] = y * W + x;
 
-  const float door_half_px = float(0.5 * o.door_max_width_m / res);
-  const float min_radius_px = float(o.min_room_radius_m / res);
-  const float ratio = float(o.saddle_ratio);
   UnionFind uf;
-  std::vector<float> peak;
-  const float ratio_larger = float(o.saddle_ratio_larger);
-  auto should_merge = [&](float pa, float pb, float d) {  // pa >= pb: basin peaks; d: the pass.
-    return pb < min_radius_px || d > door_half_px || (d >= ratio * pb && d >= ratio_larger * pa);
-  };
-  int* label = ws->label.ptr<int>(0);  // Region index + 1 while flooding.
+  std::vector<Basin> basin;
+  int* label = ws->label.ptr<int>(0);  // Basin index + 1 while flooding.
   for (int p : order) {
     const int x = p % W, y = p / W;
     const float d = dist(y, x);
@@ -126,87 +123,51 @@ void SegmentByDistance(const RoomSegmentationOptions& o, double res, Workspace* 
     }
     if (n == 0) {
       const int r = uf.Add();
-      peak.push_back(d);
+      basin.push_back({d, 1});
       label[p] = r + 1;
       continue;
     }
     for (int i = 1; i < n; ++i)  // Highest peak first (insertion sort of at most 8).
-      for (int j = i; j > 0 && peak[roots[j]] > peak[roots[j - 1]]; --j) std::swap(roots[j], roots[j - 1]);
+      for (int j = i; j > 0 && basin[roots[j]].peak > basin[roots[j - 1]].peak; --j) std::swap(roots[j], roots[j - 1]);
     const int main = roots[0];
     for (int i = 1; i < n; ++i)
-      if (should_merge(peak[main], peak[roots[i]], d)) uf.parent[roots[i]] = main;
+      if (!keep_apart(basin[main], basin[roots[i]], d)) {
+        uf.parent[roots[i]] = main;
+        basin[main].area += basin[roots[i]].area;
+      }
+    ++basin[main].area;
     label[p] = main + 1;
   }
-  // Resolve labels to roots.
   for (int i = 0; i < W * H; ++i)
     if (label[i]) label[i] = uf.Find(label[i] - 1) + 1;
 }
 
-// Morphological segmentation (Bormann et al. 2016, Sec. III-A): erode, take parts that became small
-// enough as seeds, grow the seeds back.
+// Distance-transform watershed with doorway-aware merging (see the header).
+void SegmentByDistance(const RoomSegmentationOptions& o, double res, Workspace* ws) {
+  cv::Mat1b inner = ws->space & ~ws->door;
+  cv::Mat1f dist;
+  cv::distanceTransform(inner, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const float door_half_px = float(0.5 * o.door_max_width_m / res);
+  const float min_radius_px = float(o.min_room_radius_m / res);
+  const float ratio = float(o.saddle_ratio), ratio_larger = float(o.saddle_ratio_larger);
+  Flood(dist,
+        [&](const Basin& a, const Basin& b, float d) {  // a.peak >= b.peak; d: the pass.
+          return b.peak >= min_radius_px && d <= door_half_px && (d < ratio * b.peak || d < ratio_larger * a.peak);
+        },
+        ws);
+}
+
+// Morphological segmentation (after Bormann et al. 2016, Sec. III-A): erosion with a 3x3 square k
+// times keeps the cells whose chessboard distance to an obstacle exceeds k, so flooding the chessboard
+// distance downwards replays the erosion backwards. Two parts that the erosion separates stay separate
+// rooms when both still cover min_seed_area_m2 at the level where they separate; the rest merge. The
+// seeds then grow back over the space level by level, which is the watershed growth.
 void SegmentByErosion(const RoomSegmentationOptions& o, double res, Workspace* ws) {
-  const int W = ws->space.cols, H = ws->space.rows;
-  const double px_area = res * res;
-  const int max_px = int(o.max_room_area_m2 / px_area);
-  cv::Mat1b cur = ws->space & ~ws->door;
-  cv::Mat1i seeds(H, W, 0);
-  int num_seeds = 0;
-  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
-  cv::Mat1i prev_labels;
-  cv::Mat1i labels;
-  cv::Mat stats, centroids;
-  int prev_n = 0;
-  auto record = [&](const cv::Mat1i& lab, const cv::Mat1b& mask, const std::vector<uint8_t>& take) {
-    std::vector<int> id(take.size(), 0);
-    for (size_t c = 1; c < take.size(); ++c)
-      if (take[c]) id[c] = ++num_seeds;
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        const int c = lab(y, x);
-        if (c > 0 && id[c] && mask(y, x)) seeds(y, x) = id[c], cur(y, x) = 0;
-      }
-  };
-  cv::Mat1b before;
-  while (cv::countNonZero(cur) > 0) {
-    before = cur.clone();
-    cv::erode(cur, cur, kernel);
-    const int n = cv::connectedComponentsWithStats(cur, labels, stats, centroids, 8, CV_32S);
-    // Parts of the previous level that vanished without ever being small enough: seed them as they were.
-    if (prev_n > 1) {
-      std::vector<uint8_t> alive(prev_n, 0);
-      for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x)
-          if (cur(y, x) && prev_labels(y, x) > 0) alive[prev_labels(y, x)] = 1;
-      std::vector<uint8_t> take(prev_n, 0);
-      bool any = false;
-      for (int c = 1; c < prev_n; ++c) any |= take[c] = !alive[c];
-      if (any) record(prev_labels, before, take);
-    }
-    std::vector<uint8_t> take(n, 0);
-    bool any = false;
-    for (int c = 1; c < n; ++c) any |= take[c] = stats.at<int>(c, cv::CC_STAT_AREA) <= max_px;
-    if (any) record(labels, cur, take);
-    // Labels of what is left, for the vanishing test at the next level.
-    prev_n = any ? cv::connectedComponents(cur, prev_labels, 8, CV_32S) : n;
-    if (!any) prev_labels = labels.clone();
-  }
-  // Geodesic wavefront from the seeds over the whole space (doors included).
-  std::deque<int> queue;
-  int* label = ws->label.ptr<int>(0);
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x)
-      if (seeds(y, x) && ws->space(y, x)) label[y * W + x] = seeds(y, x), queue.push_back(y * W + x);
-  while (!queue.empty()) {
-    const int p = queue.front();
-    queue.pop_front();
-    const int x = p % W, y = p / W;
-    for (int k = 0; k < 4; ++k) {
-      int nx, ny;
-      if (!Step(ws->space, x, y, k, &nx, &ny) || label[ny * W + nx]) continue;
-      label[ny * W + nx] = label[p];
-      queue.push_back(ny * W + nx);
-    }
-  }
+  cv::Mat1b inner = ws->space & ~ws->door;
+  cv::Mat1f dist;
+  cv::distanceTransform(inner, dist, cv::DIST_C, 3);
+  const int64_t min_seed_px = int64_t(std::ceil(o.min_seed_area_m2 / (res * res)));
+  Flood(dist, [&](const Basin& a, const Basin& b, float) { return std::min(a.area, b.area) >= min_seed_px; }, ws);
 }
 
 // Merges rooms smaller than min_px into the neighbour with the longest shared border; rooms without a
@@ -308,8 +269,7 @@ bool RoomSegmentationOptions::Check(std::string* error) const {
   if (!(min_room_radius_m >= 0))
     return *error = Violated("min_room_radius_m", min_room_radius_m, "min_room_radius_m >= 0"), false;
   if (!(min_room_area_m2 >= 0)) return *error = Violated("min_room_area_m2", min_room_area_m2, "min_room_area_m2 >= 0"), false;
-  if (!(max_room_area_m2 > min_room_area_m2))
-    return *error = Violated("max_room_area_m2", max_room_area_m2, "max_room_area_m2 > min_room_area_m2"), false;
+  if (!(min_seed_area_m2 > 0)) return *error = Violated("min_seed_area_m2", min_seed_area_m2, "min_seed_area_m2 > 0"), false;
   if (!(max_speck_distance_m >= 0))
     return *error = Violated("max_speck_distance_m", max_speck_distance_m, "max_speck_distance_m >= 0"), false;
   return true;

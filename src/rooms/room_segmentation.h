@@ -10,8 +10,10 @@
 //    the pass looks like a doorway: d <= door_max_width_m / 2, d < saddle_ratio * (the smaller basin's
 //    peak), and both basins are room-sized (peak >= min_room_radius_m). Otherwise they merge.
 //  - kMorphological ("morphological"), after Bormann et al., ICRA 2016, Sec. III-A: the room space is
-//    eroded step by step; each connected part that shrinks to at most max_room_area_m2 becomes a room
-//    seed and is removed; seeds then grow back over the space by a geodesic wavefront.
+//    eroded step by step (a 3x3 square); where the erosion splits a part in two and both pieces still
+//    cover min_seed_area_m2, they become separate room seeds; the seeds then grow back over the space
+//    (watershed growth). Implemented as a flood of the chessboard distance, which replays all erosion
+//    levels in one pass.
 // Both then merge rooms below min_room_area_m2 into the neighbour they share the longest border with, and
 // give free cells the segmentation could not reach (specks cut off by furniture) the nearest room within
 // max_speck_distance_m; specks farther away are outside the apartment and stay 0.
@@ -45,7 +47,8 @@ struct RoomSegmentationOptions {
   double min_room_radius_m = 0.6;     // distance: basins with a smaller inscribed radius never stay apart
                                       // (alcoves, niches, gaps between furniture), metres. >= 0.
   double min_room_area_m2 = 1.0;      // Smaller rooms merge into a neighbour, m². >= 0.
-  double max_room_area_m2 = 47.0;     // morphological: parts up to this area become seeds, m² (ipa default). > min.
+  double min_seed_area_m2 = 1.0;      // morphological: pieces the erosion splits apart stay separate rooms
+                                      // when both still cover this area, m². > 0.
   double max_speck_distance_m = 0.5;  // Unreached free cells join the nearest room within this, metres. >= 0.
   bool fill_clutter = true;           // Treat clutter cells as room space while segmenting (they never get
                                       // an id in room_ids, only in room_extent_ids).

@@ -1,0 +1,147 @@
+#include "rooms/room_segmentation.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "rooms/room_score.h"
+#include "tests/rooms/rooms_test_util.h"
+
+namespace semvox {
+namespace {
+
+using testing::GreyMap;
+using testing::TwoRoomsWithDoor;
+
+const RoomSegmentationMethod kMethods[] = {RoomSegmentationMethod::kDistanceWatershed,
+                                           RoomSegmentationMethod::kMorphological};
+
+RoomSegmentationOptions WithMethod(RoomSegmentationMethod m) {
+  RoomSegmentationOptions o;
+  o.method = m;
+  return o;
+}
+
+// Every free or door cell has exactly one id in [1, num_rooms]; nothing else has one; every id is used.
+void ExpectEveryFloorCellInOneRoom(const FloorPlan& plan, const RoomSegmentation& rooms) {
+  std::set<int> used;
+  for (int y = 0; y < plan.height(); ++y)
+    for (int x = 0; x < plan.width(); ++x) {
+      const int id = rooms.room_ids.at(x, y);
+      if (plan.IsFloor(x, y)) {
+        ASSERT_GE(id, 1) << "floor cell (" << x << ", " << y << ") has no room";
+        ASSERT_LE(id, rooms.num_rooms);
+        used.insert(id);
+      } else {
+        ASSERT_EQ(id, 0) << "non-floor cell (" << x << ", " << y << ") has room " << id;
+      }
+    }
+  EXPECT_EQ(int(used.size()), rooms.num_rooms);
+}
+
+TEST(SegmentRooms, TwoRoomsJoinedByADoorGiveTwoRooms) {
+  const GreyMap map = TwoRoomsWithDoor();
+  const FloorPlan plan = FloorPlanFromImage(map.image, 0.05, FloorPlanOptions());
+  for (RoomSegmentationMethod m : kMethods) {
+    const RoomSegmentation rooms = SegmentRooms(plan, WithMethod(m));
+    EXPECT_EQ(rooms.num_rooms, 2) << RoomSegmentationMethodName(m);
+    ExpectEveryFloorCellInOneRoom(plan, rooms);
+    // The two rooms are the two sides of the wall.
+    EXPECT_NE(rooms.room_ids.at(40, 40), rooms.room_ids.at(150, 40)) << RoomSegmentationMethodName(m);
+    EXPECT_EQ(rooms.room_ids.at(20, 20), rooms.room_ids.at(80, 60)) << RoomSegmentationMethodName(m);
+  }
+}
+
+TEST(SegmentRooms, OneRoomStaysOneRoom) {
+  GreyMap map(120, 100);
+  map.Fill(0.5, 0.5, 5.5, 4.5, 255);
+  const FloorPlan plan = FloorPlanFromImage(map.image, 0.05, FloorPlanOptions());
+  for (RoomSegmentationMethod m : kMethods) {
+    const RoomSegmentation rooms = SegmentRooms(plan, WithMethod(m));
+    EXPECT_EQ(rooms.num_rooms, 1) << RoomSegmentationMethodName(m);
+    ExpectEveryFloorCellInOneRoom(plan, rooms);
+  }
+}
+
+// A wide opening between two rooms is not a door: one room. The same opening with door cells across it
+// (a lintel seen in 3D) separates them.
+TEST(SegmentRooms, DoorCellsFromTheVoxelMapSeparateRooms) {
+  GreyMap map(200, 90);
+  map.Fill(0.5, 0.5, 9.5, 2.0, 255);  // A 1.5 m wide, 9 m long hall: no constriction anywhere.
+  FloorPlan plan = FloorPlanFromImage(map.image, 0.05, FloorPlanOptions());
+  const RoomSegmentationOptions o;
+  EXPECT_EQ(SegmentRooms(plan, o).num_rooms, 1);
+  for (int y = 0; y < plan.height(); ++y)
+    for (int x = 98; x < 100; ++x)
+      if (plan.at(x, y) == FloorCell::kFree) plan.cells.at(x, y) = uint8_t(FloorCell::kDoor);
+  for (RoomSegmentationMethod m : kMethods) {
+    const RoomSegmentation rooms = SegmentRooms(plan, WithMethod(m));
+    EXPECT_EQ(rooms.num_rooms, 2) << RoomSegmentationMethodName(m);
+    ExpectEveryFloorCellInOneRoom(plan, rooms);
+    EXPECT_NE(rooms.room_ids.at(40, 25), rooms.room_ids.at(160, 25));
+  }
+}
+
+// Property: on random furnished floor plans (rooms on a grid with random doors, random furniture and
+// specks), every floor cell ends in exactly one room, whatever the method.
+TEST(SegmentRooms, EveryFloorCellInExactlyOneRoomOnRandomPlans) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 6; ++trial) {
+    GreyMap map(260, 200);
+    map.Fill(0.5, 0.5, 12.5, 9.5, 255);
+    // Walls every ~4 m with doors at random places.
+    for (double x = 4.5; x < 12; x += 4) {
+      map.Fill(x, 0.5, x + 0.1, 9.5, 0);
+      const double d = 1 + 6 * u(rng);
+      map.Fill(x, d, x + 0.1, d + 0.9, 255);
+    }
+    map.Fill(0.5, 5.0, 12.5, 5.1, 0);
+    for (double x = 1.5; x < 12; x += 4) map.Fill(x, 5.0, x + 0.9, 5.1, 255);
+    for (int k = 0; k < 25; ++k) {  // Furniture and specks.
+      const double x = 0.5 + 12 * u(rng), y = 0.5 + 9 * u(rng), s = 0.05 + 0.6 * u(rng);
+      map.Fill(x, y, x + s, y + s * (0.5 + u(rng)), 0);
+    }
+    const FloorPlan plan = FloorPlanFromImage(map.image, 0.05, FloorPlanOptions());
+    for (RoomSegmentationMethod m : kMethods) {
+      RoomSegmentationOptions o = WithMethod(m);
+      o.max_speck_distance_m = 100;  // Every speck joins a room.
+      const RoomSegmentation rooms = SegmentRooms(plan, o);
+      ExpectEveryFloorCellInOneRoom(plan, rooms);
+      EXPECT_GE(rooms.num_rooms, 2);
+    }
+  }
+}
+
+TEST(SegmentRooms, EmptyPlanHasNoRooms) {
+  GreyMap map(30, 20);
+  const FloorPlan plan = FloorPlanFromImage(map.image, 0.05, FloorPlanOptions());
+  for (RoomSegmentationMethod m : kMethods) EXPECT_EQ(SegmentRooms(plan, WithMethod(m)).num_rooms, 0);
+}
+
+TEST(RoomSegmentationOptions, CheckNamesTheField) {
+  RoomSegmentationOptions o;
+  std::string error;
+  EXPECT_TRUE(o.Check(&error));
+  o.saddle_ratio = 0;
+  EXPECT_FALSE(o.Check(&error));
+  EXPECT_NE(error.find("saddle_ratio = 0"), std::string::npos) << error;
+  o = RoomSegmentationOptions();
+  o.min_seed_area_m2 = -1;
+  EXPECT_FALSE(o.Check(&error));
+  EXPECT_NE(error.find("min_seed_area_m2 = -1"), std::string::npos) << error;
+}
+
+TEST(RoomSegmentationMethod, NamesRoundTrip) {
+  for (const std::string& name : RoomSegmentationMethodNames()) {
+    RoomSegmentationMethod m;
+    ASSERT_TRUE(ParseRoomSegmentationMethod(name, &m));
+    EXPECT_EQ(name, RoomSegmentationMethodName(m));
+  }
+  RoomSegmentationMethod m;
+  EXPECT_FALSE(ParseRoomSegmentationMethod("voronoi?", &m));
+}
+
+}  // namespace
+}  // namespace semvox
