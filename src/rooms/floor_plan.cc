@@ -85,7 +85,7 @@ FloorPlan FloorPlanFromVoxels(const VoxelGrid& grid, double floor_z, double ceil
       if (c == FloorCell::kFree) {
         for (int iz = std::max(lintel_lo, slab_lo); iz < dims[2]; ++iz)
           if (grid.state(grid.Index(x, iy, iz)) == VoxelState::kOccupied) {
-            plan.ceiling_height_m.at(x, y) = float(z0 + (iz + 0.5) * res - floor_z);
+            plan.ceiling_height_m.at(x, y) = float(z0 + iz * res - floor_z);  // Underside of the voxel.
             break;
           }
       }

@@ -53,7 +53,8 @@ struct FloorPlanOptions {
   double door_max_width_m = 1.3;          // Widest door opening, metres. >= door_min_width_m.
   double door_min_height_m = 1.85;        // Lowest lintel underside above the floor, metres. > 0.
   double lintel_ceiling_gap_m = 0.15;     // A lintel ends at least this far below the ceiling, metres. >= 0.
-  double wall_min_height_m = 2.0;         // An obstacle reaching this high above the floor is wall, metres.
+  double wall_min_height_m = 2.2;         // An obstacle reaching this high above the floor is wall (taller
+                                          // than wardrobes and doors), metres. > 0.
   double clutter_max_area_m2 = 1.0;       // 2D maps: obstacle islands up to this area ... m². >= 0.
   double clutter_max_length_m = 1.0;      // ... and this bounding-box diagonal are clutter (furniture), not
                                           // wall fragments, metres. >= 0.
