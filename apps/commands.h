@@ -29,8 +29,6 @@ struct GenerateArgs {
   int seed = 0;
   bool cloud = false;  // Also simulate a scanner and write cloud.ply.
   bool clean = false;  // No scan artefacts in mesh.ply.
-  bool cloud = false;  // Also simulate a scanner and write cloud.ply.
-  bool clean = false;  // No scan artefacts in mesh.ply.
 };
 
 // `semvox generate`: writes a labelled apartment (mesh.ply, ...) into OUTDIR.

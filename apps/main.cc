@@ -58,8 +58,6 @@ int main(int argc, char** argv) {
   gen_cmd->add_option("--seed", gen.seed, "random seed");
   gen_cmd->add_flag("--cloud", gen.cloud, "also simulate a scanner walk and write cloud.ply");
   gen_cmd->add_flag("--clean", gen.clean, "no scan artefacts in mesh.ply");
-  gen_cmd->add_flag("--cloud", gen.cloud, "also simulate a scanner walk and write cloud.ply");
-  gen_cmd->add_flag("--clean", gen.clean, "no scan artefacts in mesh.ply");
 
   semvox::RenderArgs render;
   CLI::App* render_cmd = app.add_subcommand("render", "render chosen views of a mesh or cloud into DIR for inspection");
