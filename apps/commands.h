@@ -34,6 +34,15 @@ struct GenerateArgs {
 // `semvox generate`: writes a labelled apartment (mesh.ply, ...) into OUTDIR.
 Status RunGenerate(const GenerateArgs& args);
 
+struct EvalArgs {
+  std::string pred_dir;  // OUTDIR of `semvox run`.
+  std::string gt_dir;    // Directory written by `semvox generate --seed N`.
+  std::string output;    // eval.json path; default PRED/eval.json.
+};
+
+// `semvox eval`: scores the run's outputs against the ground truth, writes eval.json, prints a table.
+Status RunEval(const EvalArgs& args);
+
 // ---- rooms (apps/rooms_command.cc) ----
 struct RoomsArgs {
   std::string map_path;           // 2D map image: 0 occupied, 255 free.

@@ -59,6 +59,12 @@ int main(int argc, char** argv) {
   gen_cmd->add_flag("--cloud", gen.cloud, "also simulate a scanner walk and write cloud.ply");
   gen_cmd->add_flag("--clean", gen.clean, "no scan artefacts in mesh.ply");
 
+  semvox::EvalArgs eval;
+  CLI::App* eval_cmd = app.add_subcommand("eval", "score `semvox run` outputs against a generated apartment's ground truth");
+  eval_cmd->add_option("--pred", eval.pred_dir, "OUTDIR of semvox run")->required();
+  eval_cmd->add_option("--gt", eval.gt_dir, "directory written by semvox generate --seed N")->required();
+  eval_cmd->add_option("-o,--output", eval.output, "eval.json path (default PRED/eval.json)");
+
   semvox::RenderArgs render;
   CLI::App* render_cmd = app.add_subcommand("render", "render chosen views of a mesh or cloud into DIR for inspection");
   render_cmd->add_option("input", render.input, "mesh or point cloud, as for `semvox run`")->required();
@@ -103,6 +109,7 @@ int main(int argc, char** argv) {
   try {
     if (*run_cmd) return Report(semvox::RunPipeline(run));
     if (*gen_cmd) return Report(semvox::RunGenerate(gen));
+    if (*eval_cmd) return Report(semvox::RunEval(eval));
     if (*rooms_cmd) return Report(semvox::RunRooms(rooms_args));
     if (*render_cmd) return Report(semvox::RunRender(render));
     if (*config_cmd) {
