@@ -2,9 +2,8 @@
 // moves on another max-flow implementation (bench/crf_bench.cc runs it on Boost's
 // boykov_kolmogorov_max_flow). Included by crf/alpha_expansion.cc and the benchmark only.
 //
-// Graph must provide: AddNodes(n), AddEdge(i, j, cap_ij, cap_ji) -> id (ids 0, 1, ...),
-// ResetTerminalCapacities(), SetEdgeCapacities(id, cap_ij, cap_ji), AddTerminalCapacities(node, s, t),
-// Solve() -> flow, InSinkSegment(node), MemoryBytes().
+// Graph must provide: AddNodes(n), AddEdge(i, j, cap_ij, cap_ji) -> id (ids 0, 1, ...), ResetFlow(),
+// SetEdgeCapacities(id, cap_ij, cap_ji), SetTerminalCapacity(node, source_minus_sink) (overwrites), Solve() -> flow, InSinkSegment(node), MemoryBytes(). Every move sets every edge and node.
 #pragma once
 
 #include <algorithm>
@@ -88,6 +87,11 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
   // Fixed topology: CRF nodes 0..N-1, then per clique z = N + 2c and y = N + 2c + 1; edges in CRF order,
   // then per clique and member k the arcs (member -> z) and (y -> member).
   graph.AddNodes(N + 2 * C);
+  if constexpr (requires { graph.ReserveEdges(size_t{0}); }) {
+    size_t clique_members = 0;
+    for (int c = 0; c < C; ++c) clique_members += energy.clique_nodes(c).size();
+    graph.ReserveEdges(edges.size() + 2 * clique_members);
+  }
   for (const CrfEnergy::Edge& e : edges) graph.AddEdge(e.i, e.j, 0, 0);
   std::vector<int> clique_first_edge(C);
   for (int c = 0, next_edge = num_pairwise; c < C; ++c) {
@@ -111,6 +115,13 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
 
   double current = energy.Evaluate(labels);
   summary->initial_energy = current;
+  // U_i(x_i) per node and its sum, kept up to date (contiguous, unlike the label-major unaries).
+  std::vector<float> current_unary(N);
+  double current_unary_sum = 0;
+  for (int i = 0; i < N; ++i) {
+    current_unary[i] = energy.unary(i, labels[i]);
+    current_unary_sum += current_unary[i];
+  }
   int64_t change_counter = 0;
   std::vector<int64_t> unchanged_at(L, -1);  // change_counter when alpha's expansion last changed nothing.
   std::vector<CrfLabel> order(L);
@@ -127,69 +138,74 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
         continue;
       }
       // ---- Build the move energy: constant + sum_v delta_v t_v + edge terms.
-      graph.ResetTerminalCapacities();
-      double constant = 0;
+      graph.ResetFlow();
+      double constant = current_unary_sum;
       int64_t truncated = 0;
-      for (int i = 0; i < N; ++i) {
-        const double keep = energy.unary(i, labels[i]);
-        constant += keep;
-        delta[i] = labels[i] == alpha ? 0.0 : energy.unary(i, alpha) - keep;
+      {
+        const float* plane = energy.unary_plane(alpha).data();
+        for (int i = 0; i < N; ++i) {
+          delta[i] = labels[i] == alpha ? 0.0 : static_cast<double>(plane[i]) - current_unary[i];
+        }
       }
       std::fill(delta.begin() + N, delta.end(), 0.0);
-      for (int e = 0; e < num_pairwise; ++e) {
-        const CrfEnergy::Edge& edge = edges[e];
-        const CrfLabel li = labels[edge.i], lj = labels[edge.j];
-        const bool fi = li == alpha, fj = lj == alpha;  // Fixed at alpha.
-        if (edge.model == CrfEnergy::kPottsModel) {
-          const double w = edge.weight;
+      {
+        // Local accumulator (the compiler cannot keep `constant` in a register across graph calls).
+        double pairwise_constant = 0;
+        double* const d = delta.data();
+        const CrfLabel* const x = labels.data();
+        for (int e = 0; e < num_pairwise; ++e) {
+          const CrfEnergy::Edge& edge = edges[e];
+          const CrfLabel li = x[edge.i], lj = x[edge.j];
+          const bool fi = li == alpha, fj = lj == alpha;  // Fixed at alpha.
+          if (edge.model == CrfEnergy::kPottsModel) {
+            const double w = edge.weight;
+            if (fi || fj) {
+              // One end at alpha: [other end keeps its label] w, a unary term; both at alpha: 0.
+              if (!(fi && fj)) {
+                pairwise_constant += w;
+                d[fi ? edge.j : edge.i] -= w;
+              }
+              graph.SetEdgeCapacities(e, 0, 0);
+            } else {
+              // A = w [li != lj], B = C = w, D = 0: E = A + (w - A) t_i - w t_j + (2w - A) (1 - t_i) t_j.
+              const double A = li != lj ? w : 0.0;
+              pairwise_constant += A;
+              d[edge.i] += w - A;
+              d[edge.j] -= w;
+              graph.SetEdgeCapacities(e, 2 * w - A, 0);
+            }
+            continue;
+          }
+          const double D = energy.EdgeCost(edge, alpha, alpha);
           if (fi && fj) {
+            pairwise_constant += D;
             graph.SetEdgeCapacities(e, 0, 0);
           } else if (fj) {
-            constant += w;  // x_i = 0: [l_i != alpha] w; x_i = 1: 0.
-            delta[edge.i] -= w;
+            const double A = energy.EdgeCost(edge, li, alpha);
+            pairwise_constant += A;
+            d[edge.i] += D - A;
             graph.SetEdgeCapacities(e, 0, 0);
           } else if (fi) {
-            constant += w;
-            delta[edge.j] -= w;
+            const double A = energy.EdgeCost(edge, alpha, lj);
+            pairwise_constant += A;
+            d[edge.j] += D - A;
             graph.SetEdgeCapacities(e, 0, 0);
           } else {
-            // A = w [li != lj], B = C = w, D = 0: E = A + (w - A) t_i - w t_j + (2w - A) (1 - t_i) t_j.
-            const double A = li != lj ? w : 0.0;
-            constant += A;
-            delta[edge.i] += w - A;
-            delta[edge.j] -= w;
-            graph.SetEdgeCapacities(e, 2 * w - A, 0);
+            const double A = energy.EdgeCost(edge, li, lj);
+            const double B = energy.EdgeCost(edge, li, alpha);
+            const double Cc = energy.EdgeCost(edge, alpha, lj);
+            double cap = B + Cc - A - D;
+            if (cap < 0) {  // Non-submodular: truncate (the move is verified below).
+              ++truncated;
+              cap = 0;
+            }
+            pairwise_constant += A;
+            d[edge.i] += Cc - A;
+            d[edge.j] += D - Cc;
+            graph.SetEdgeCapacities(e, cap, 0);
           }
-          continue;
         }
-        const double D = energy.EdgeCost(edge, alpha, alpha);
-        if (fi && fj) {
-          constant += D;
-          graph.SetEdgeCapacities(e, 0, 0);
-        } else if (fj) {
-          const double A = energy.EdgeCost(edge, li, alpha);
-          constant += A;
-          delta[edge.i] += D - A;
-          graph.SetEdgeCapacities(e, 0, 0);
-        } else if (fi) {
-          const double A = energy.EdgeCost(edge, alpha, lj);
-          constant += A;
-          delta[edge.j] += D - A;
-          graph.SetEdgeCapacities(e, 0, 0);
-        } else {
-          const double A = energy.EdgeCost(edge, li, lj);
-          const double B = energy.EdgeCost(edge, li, alpha);
-          const double Cc = energy.EdgeCost(edge, alpha, lj);
-          double cap = B + Cc - A - D;
-          if (cap < 0) {  // Non-submodular: truncate (the move is verified below).
-            ++truncated;
-            cap = 0;
-          }
-          constant += A;
-          delta[edge.i] += Cc - A;
-          delta[edge.j] += D - Cc;
-          graph.SetEdgeCapacities(e, cap, 0);
-        }
+        constant += pairwise_constant;
       }
       for (int c = 0; c < C; ++c) {
         const RobustPnMove plan = PlanRobustPnMove(energy, c, labels, alpha, &scratch);
@@ -210,14 +226,14 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
           graph.SetEdgeCapacities(e + 1, x == plan.dominant ? plan.dominant_slope * weights[k] : 0.0, 0);
         }
       }
-      for (int v = 0; v < N + 2 * C; ++v) {
-        const double d = delta[v];
-        if (d > 0) {
-          graph.AddTerminalCapacities(v, d, 0);
-        } else if (d < 0) {
-          graph.AddTerminalCapacities(v, 0, -d);
-          constant += d;
+      {
+        double negative = 0;
+        for (int v = 0; v < N + 2 * C; ++v) {
+          const double d = delta[v];
+          graph.SetTerminalCapacity(v, d);
+          negative += d < 0 ? d : 0.0;
         }
+        constant += negative;
       }
       // ---- Cut.
       const auto t_flow = Clock::now();
@@ -248,7 +264,12 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       }
       const bool improves = change < -1e-12 * (1.0 + std::abs(current));
       if (improves) {
-        for (int i : changed_nodes) labels[i] = alpha;
+        const float* plane = energy.unary_plane(alpha).data();
+        for (int i : changed_nodes) {
+          labels[i] = alpha;
+          current_unary_sum += static_cast<double>(plane[i]) - current_unary[i];
+          current_unary[i] = plane[i];
+        }
         current += change;
         ++change_counter;
         ++moves_in_sweep;
@@ -274,6 +295,8 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       ExpansionInvariantFailed("energy rose over a sweep");
     }
     current = exact;
+    current_unary_sum = 0;
+    for (int i = 0; i < N; ++i) current_unary_sum += current_unary[i];
     summary->energy_per_sweep.push_back(exact);
     summary->num_sweeps = sweep + 1;
     SEMVOX_LOG(kDebug, "alpha-expansion sweep " << sweep + 1 << ": E = " << exact << ", " << moves_in_sweep

@@ -30,12 +30,12 @@ size_t CrfEnergy::Index(int node, CrfLabel label) const {
     EnergyMisuse("unary index (node " + std::to_string(node) + ", label " + std::to_string(label) +
                  ") out of range");
   }
-  return static_cast<size_t>(node) * num_labels_ + label;
+  return static_cast<size_t>(label) * num_nodes_ + node;
 }
 
 void CrfEnergy::SetUnaries(int node, std::span<const float> costs) {
   if (static_cast<int>(costs.size()) != num_labels_) EnergyMisuse("SetUnaries: costs.size() != num_labels");
-  std::copy(costs.begin(), costs.end(), unary_.begin() + Index(node, 0));
+  for (int l = 0; l < num_labels_; ++l) unary_[Index(node, l)] = costs[l];
 }
 
 int CrfEnergy::AddCompatibilityModel(std::vector<float> matrix) {
@@ -124,7 +124,7 @@ bool CrfEnergy::Check(std::string* error) const {
   for (size_t k = 0; k < unary_.size(); ++k) {
     if (!std::isfinite(unary_[k])) {
       std::ostringstream os;
-      os << "unary(node " << k / num_labels_ << ", label " << k % num_labels_ << ") = " << unary_[k]
+      os << "unary(node " << k % num_nodes_ << ", label " << k / num_nodes_ << ") = " << unary_[k]
          << ". Violated constraint: finite";
       return fail(os.str());
     }
@@ -176,7 +176,7 @@ bool CrfEnergy::Check(std::string* error) const {
 
 double CrfEnergy::UnaryEnergy(std::span<const CrfLabel> labels) const {
   double sum = 0;
-  for (int i = 0; i < num_nodes_; ++i) sum += unary_[static_cast<size_t>(i) * num_labels_ + labels[i]];
+  for (int i = 0; i < num_nodes_; ++i) sum += unary(i, labels[i]);
   return sum;
 }
 
@@ -208,10 +208,16 @@ double CrfEnergy::Evaluate(std::span<const CrfLabel> labels) const {
 }
 
 std::vector<CrfLabel> CrfEnergy::UnaryArgmin() const {
-  std::vector<CrfLabel> labels(num_nodes_);
-  for (int i = 0; i < num_nodes_; ++i) {
-    const float* u = unary_.data() + static_cast<size_t>(i) * num_labels_;
-    labels[i] = static_cast<CrfLabel>(std::min_element(u, u + num_labels_) - u);
+  std::vector<CrfLabel> labels(num_nodes_, 0);
+  std::vector<float> best(unary_.begin(), unary_.begin() + num_nodes_);
+  for (int l = 1; l < num_labels_; ++l) {
+    const float* u = unary_.data() + static_cast<size_t>(l) * num_nodes_;
+    for (int i = 0; i < num_nodes_; ++i) {
+      if (u[i] < best[i]) {
+        best[i] = u[i];
+        labels[i] = l;
+      }
+    }
   }
   return labels;
 }

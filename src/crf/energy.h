@@ -66,12 +66,18 @@ class CrfEnergy {
   int num_nodes() const { return num_nodes_; }
   int num_labels() const { return num_labels_; }
 
-  // ---- Unary: U_i(l), stored node-major (node * L + label), 0 by default.
+  // ---- Unary: U_i(l), 0 by default. Stored label-major (label * N + node): an expansion of label alpha
+  // reads the contiguous plane U_.(alpha) instead of one cache line per node.
   void SetUnary(int node, CrfLabel label, float cost) { unary_[Index(node, label)] = cost; }
   void SetUnaries(int node, std::span<const float> costs);  // costs.size() == L.
-  float unary(int node, CrfLabel label) const { return unary_[static_cast<size_t>(node) * num_labels_ + label]; }
+  float unary(int node, CrfLabel label) const { return unary_[static_cast<size_t>(label) * num_nodes_ + node]; }
+  // All unaries, label-major: element label * N + node.
   std::span<float> mutable_unaries() { return unary_; }
   std::span<const float> unaries() const { return unary_; }
+  // U_i(label) for i = 0..N-1.
+  std::span<const float> unary_plane(CrfLabel label) const {
+    return {unary_.data() + static_cast<size_t>(label) * num_nodes_, static_cast<size_t>(num_nodes_)};
+  }
 
   // ---- Pairwise.
   // Adds a dense L x L label-compatibility model (row-major, V(a, b) = matrix[a * L + b]); returns its id.

@@ -21,6 +21,11 @@ namespace {
 }  // namespace
 
 template <typename Capacity>
+void MaxFlowGraph<Capacity>::NegativeCapacity() {
+  MaxFlowInvariantFailed("capacities must be >= 0 (and not NaN)");
+}
+
+template <typename Capacity>
 MaxFlowGraph<Capacity>::MaxFlowGraph(int num_nodes) {
   MAXFLOW_CHECK(num_nodes >= 0);
   nodes_.resize(num_nodes);
@@ -61,10 +66,16 @@ int MaxFlowGraph<Capacity>::AddEdge(int i, int j, Capacity cap_ij, Capacity cap_
   MAXFLOW_CHECK(i != j);
   MAXFLOW_CHECK(cap_ij >= 0 && cap_ji >= 0);
   if (arcs_valid_) UnbuildArcs();
+  const size_t e = edge_arc_.size();
   edge_tail_.push_back(i);
   edge_head_.push_back(j);
-  edge_cap_.push_back(cap_ij);
-  edge_rev_cap_.push_back(cap_ji);
+  if (!edge_cap_.empty() || cap_ij != 0 || cap_ji != 0) {
+    // Capacities are stored only once one is non-zero (callers that set them later save the memory).
+    edge_cap_.resize(e, Capacity(0));
+    edge_rev_cap_.resize(e, Capacity(0));
+    edge_cap_.push_back(cap_ij);
+    edge_rev_cap_.push_back(cap_ji);
+  }
   edge_arc_.push_back(-1);
   return static_cast<int>(edge_arc_.size()) - 1;
 }
@@ -104,17 +115,21 @@ void MaxFlowGraph<Capacity>::ResetTerminalCapacities() {
 }
 
 template <typename Capacity>
-void MaxFlowGraph<Capacity>::SetEdgeCapacities(int edge, Capacity cap_ij, Capacity cap_ji) {
+void MaxFlowGraph<Capacity>::SetEdgeCapacitiesBeforeBuild(int edge, Capacity cap_ij, Capacity cap_ji) {
   MAXFLOW_CHECK(edge >= 0 && edge < num_edges());
-  MAXFLOW_CHECK(cap_ij >= 0 && cap_ji >= 0);
-  if (arcs_valid_) {
-    Arc& fwd = arcs_[edge_arc_[edge]];
-    fwd.residual = cap_ij;
-    arcs_[fwd.sister].residual = cap_ji;
-  } else {
-    edge_cap_[edge] = cap_ij;
-    edge_rev_cap_[edge] = cap_ji;
+  if (edge_cap_.size() < edge_arc_.size()) {
+    edge_cap_.resize(edge_arc_.size(), Capacity(0));
+    edge_rev_cap_.resize(edge_arc_.size(), Capacity(0));
   }
+  edge_cap_[edge] = cap_ij;
+  edge_rev_cap_[edge] = cap_ji;
+}
+
+template <typename Capacity>
+void MaxFlowGraph<Capacity>::ReserveEdges(size_t count) {
+  edge_tail_.reserve(count);
+  edge_head_.reserve(count);
+  edge_arc_.reserve(count);
 }
 
 template <typename Capacity>
@@ -132,8 +147,9 @@ void MaxFlowGraph<Capacity>::BuildArcs() {
   for (int e = 0; e < m; ++e) {
     const int i = edge_tail_[e], j = edge_head_[e];
     const int fa = fill[i]++, ra = fill[j]++;
-    arcs_[fa] = Arc{j, ra, edge_cap_[e]};
-    arcs_[ra] = Arc{i, fa, edge_rev_cap_[e]};
+    const bool stored = static_cast<size_t>(e) < edge_cap_.size();
+    arcs_[fa] = Arc{j, ra, stored ? edge_cap_[e] : Capacity(0)};
+    arcs_[ra] = Arc{i, fa, stored ? edge_rev_cap_[e] : Capacity(0)};
     edge_arc_[e] = fa;
   }
   // The edge list is now held by the arcs; free it.
@@ -417,12 +433,6 @@ Capacity MaxFlowGraph<Capacity>::Solve() {
     orphans_.clear();
   }
   return flow_;
-}
-
-template <typename Capacity>
-bool MaxFlowGraph<Capacity>::InSinkSegment(int node) const {
-  const Node& n = nodes_[node];
-  return n.parent != kNone && n.in_sink_tree;
 }
 
 template class MaxFlowGraph<double>;

@@ -42,6 +42,8 @@ class MaxFlowGraph {
 
   // Adds nodes and returns the id of the first one.
   int AddNodes(int count);
+  // Avoids reallocation while adding `count` edges.
+  void ReserveEdges(size_t count);
   // Adds the pair of arcs i->j (capacity cap_ij) and j->i (cap_ji); returns the edge id. Adding edges
   // after the first Solve() rebuilds the arc arrays on the next Solve().
   int AddEdge(int i, int j, Capacity cap_ij, Capacity cap_ji);
@@ -51,11 +53,35 @@ class MaxFlowGraph {
 
   // Sets every capacity to zero and forgets the flow; the topology and edge ids are kept.
   void ResetCapacities();
-  // Sets the terminal capacities to zero and forgets the flow, leaving the arcs alone: cheaper when the
-  // caller then sets every edge with SetEdgeCapacities() (as alpha-expansion does).
+  // Sets the terminal capacities to zero and forgets the flow, leaving the arcs alone: for callers that
+  // then set every edge with SetEdgeCapacities().
   void ResetTerminalCapacities();
+  // Forgets the flow only. For callers that then set every node with SetTerminalCapacities() and every
+  // edge with SetEdgeCapacities() (alpha-expansion does: one pass less over the nodes).
+  void ResetFlow() {
+    flow_ = 0;
+    solved_ = false;
+  }
+  // Replaces the node's terminal capacities by source_minus_sink on one side (source when > 0, sink when
+  // < 0), no flow: SetTerminalCapacities(node, max(d, 0), max(-d, 0)) without the bookkeeping.
+  void SetTerminalCapacity(int node, Capacity source_minus_sink) {
+    if (!(source_minus_sink == source_minus_sink)) NegativeCapacity();  // NaN.
+    nodes_[node].terminal_cap = source_minus_sink;
+  }
+  // Replaces the node's terminal capacities (Add... accumulates); the common part counts as flow.
+  void SetTerminalCapacities(int node, Capacity source_cap, Capacity sink_cap) {
+    if (!(source_cap >= 0 && sink_cap >= 0)) NegativeCapacity();
+    flow_ += source_cap < sink_cap ? source_cap : sink_cap;
+    nodes_[node].terminal_cap = source_cap - sink_cap;
+  }
   // Overwrites the two arc capacities of edge `edge` (valid after ResetCapacities() or before Solve()).
-  void SetEdgeCapacities(int edge, Capacity cap_ij, Capacity cap_ji);
+  void SetEdgeCapacities(int edge, Capacity cap_ij, Capacity cap_ji) {
+    if (!(cap_ij >= 0 && cap_ji >= 0)) NegativeCapacity();
+    if (!arcs_valid_) return SetEdgeCapacitiesBeforeBuild(edge, cap_ij, cap_ji);
+    Arc& fwd = arcs_[edge_arc_[edge]];
+    fwd.residual = cap_ij;
+    arcs_[fwd.sister].residual = cap_ji;
+  }
 
   // Computes the maximum flow from source to sink (= the minimum cut value, including the terminal
   // capacity common to both sides) and the cut. Afterwards the residual capacities are left in place;
@@ -63,7 +89,10 @@ class MaxFlowGraph {
   Capacity Solve();
 
   // After Solve(): true when the node is on the sink side of the minimum cut.
-  bool InSinkSegment(int node) const;
+  bool InSinkSegment(int node) const {
+    const Node& n = nodes_[node];
+    return n.parent != kNone && n.in_sink_tree;
+  }
 
   // Statistics of the last Solve().
   int64_t num_augmentations() const { return num_augmentations_; }
@@ -89,6 +118,8 @@ class MaxFlowGraph {
     Capacity residual;  // Residual capacity.
   };
 
+  [[noreturn]] static void NegativeCapacity();
+  void SetEdgeCapacitiesBeforeBuild(int edge, Capacity cap_ij, Capacity cap_ji);
   void BuildArcs();
   void UnbuildArcs();
   void Activate(int node);

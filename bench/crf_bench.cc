@@ -1,0 +1,334 @@
+// CRF solver benchmark (not a test): Potts grid CRFs with 21 labels and random-but-seeded unaries,
+// minimised by
+//   - semvox alpha-expansion with semvox's own Boykov-Kolmogorov max-flow (crf/max_flow.h),
+//   - the same alpha-expansion driver on Boost's boykov_kolmogorov_max_flow (same moves, same graph
+//     topology fixed once and capacities reset per move: only the max-flow differs),
+//   - ICM,
+// reporting energy reached, seconds, sweeps and peak memory side by side. Every solver runs in its own
+// forked child that builds the problem itself, so "peak MB" is getrusage(RUSAGE_SELF).ru_maxrss of a
+// process holding exactly that problem and that solver.
+//
+// Problems: grid2d = 640 x 480, 4-connected; grid3d = 100 x 100 x 100, 6-connected. Unaries U(i, l) are
+// uniform in [0, 1) (std::mt19937_64 seeded with --seed); every edge has Potts weight --potts (0.5).
+//
+//   build-crf/bin/crf_bench [--problems grid2d,grid3d] [--solvers semvox,boost,icm] [--labels 21]
+//                           [--potts 0.5] [--seed 1] [--init argmin|zero] [--size3d 100]
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <boost/graph/boykov_kolmogorov_max_flow.hpp>
+#include <boost/graph/compressed_sparse_row_graph.hpp>
+#include <boost/property_map/property_map.hpp>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "crf/alpha_expansion_impl.h"
+#include "crf/energy.h"
+#include "crf/solvers.h"
+
+using namespace semvox;
+
+namespace {
+
+// Boost's BK behind the interface of crf_internal::RunAlphaExpansion. Vertices: the CRF/auxiliary nodes,
+// then source and sink; terminal capacities become arcs source -> v and v -> sink (with reverse arcs).
+class BoostBkGraph {
+ public:
+  struct ArcId {
+    int id = 0;
+  };
+  using Graph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, ArcId>;
+  using EdgeDesc = boost::graph_traits<Graph>::edge_descriptor;
+
+  int AddNodes(int count) {
+    const int first = n_;
+    n_ += count;
+    terminal_.resize(n_, 0.0);
+    return first;
+  }
+  int AddEdge(int i, int j, double cap_ij, double cap_ji) {
+    pairs_.emplace_back(i, j);
+    init_caps_.push_back(cap_ij);
+    init_caps_.push_back(cap_ji);
+    return static_cast<int>(pairs_.size()) - 1;
+  }
+  void ResetFlow() { constant_flow_ = 0; }
+  void SetTerminalCapacity(int v, double source_minus_sink) { terminal_[v] = source_minus_sink; }
+  void SetEdgeCapacities(int e, double cap_ij, double cap_ji) {
+    if (!built_) {
+      init_caps_[2 * e] = cap_ij;
+      init_caps_[2 * e + 1] = cap_ji;
+      return;
+    }
+    capacity_[csr_of_arc_[2 * e]] = cap_ij;
+    capacity_[csr_of_arc_[2 * e + 1]] = cap_ji;
+  }
+  void AddTerminalCapacities(int v, double source_cap, double sink_cap) {
+    constant_flow_ += std::min(source_cap, sink_cap);
+    const double delta = source_cap - sink_cap;
+    double& tc = terminal_[v];
+    if ((tc > 0 && delta < 0) || (tc < 0 && delta > 0)) constant_flow_ += std::min(std::abs(tc), std::abs(delta));
+    tc += delta;
+  }
+  double Solve() {
+    if (!built_) Build();
+    const int E = static_cast<int>(pairs_.size());
+    for (int v = 0; v < n_; ++v) {
+      const int base = 2 * E + 4 * v;
+      capacity_[csr_of_arc_[base + 0]] = std::max(terminal_[v], 0.0);   // source -> v
+      capacity_[csr_of_arc_[base + 1]] = 0;                             // v -> source
+      capacity_[csr_of_arc_[base + 2]] = std::max(-terminal_[v], 0.0);  // v -> sink
+      capacity_[csr_of_arc_[base + 3]] = 0;                             // sink -> v
+    }
+    std::copy(capacity_.begin(), capacity_.end(), residual_.begin());
+    const auto edge_index = get(boost::edge_index, graph_);
+    const auto vertex_index = get(boost::vertex_index, graph_);
+    const double flow = boost::boykov_kolmogorov_max_flow(
+        graph_, boost::make_iterator_property_map(capacity_.begin(), edge_index),
+        boost::make_iterator_property_map(residual_.begin(), edge_index),
+        boost::make_iterator_property_map(reverse_.begin(), edge_index),
+        boost::make_iterator_property_map(predecessor_.begin(), vertex_index),
+        boost::make_iterator_property_map(color_.begin(), vertex_index),
+        boost::make_iterator_property_map(distance_.begin(), vertex_index), vertex_index, n_, n_ + 1);
+    return flow + constant_flow_;
+  }
+  // Boost colours the sink tree white (source tree black, free nodes gray).
+  bool InSinkSegment(int v) const { return color_[v] == boost::white_color; }
+  size_t MemoryBytes() const {
+    return graph_.m_forward.m_rowstart.capacity() * sizeof(size_t) +
+           graph_.m_forward.m_column.capacity() * sizeof(size_t) + num_arcs_ * sizeof(ArcId) +
+           (capacity_.capacity() + residual_.capacity()) * sizeof(double) + reverse_.capacity() * sizeof(EdgeDesc) +
+           predecessor_.capacity() * sizeof(EdgeDesc) + color_.capacity() + distance_.capacity() * sizeof(long) +
+           csr_of_arc_.capacity() * sizeof(int);
+  }
+
+ private:
+  void Build() {
+    const int E = static_cast<int>(pairs_.size());
+    const int s = n_, t = n_ + 1;
+    std::vector<std::pair<int, int>> arcs;
+    std::vector<ArcId> ids;
+    arcs.reserve(2 * E + 4 * static_cast<size_t>(n_));
+    for (int e = 0; e < E; ++e) {
+      arcs.emplace_back(pairs_[e].first, pairs_[e].second);
+      arcs.emplace_back(pairs_[e].second, pairs_[e].first);
+    }
+    for (int v = 0; v < n_; ++v) {
+      arcs.emplace_back(s, v);
+      arcs.emplace_back(v, s);
+      arcs.emplace_back(v, t);
+      arcs.emplace_back(t, v);
+    }
+    num_arcs_ = arcs.size();
+    ids.resize(num_arcs_);
+    for (size_t k = 0; k < num_arcs_; ++k) ids[k].id = static_cast<int>(k);
+    graph_ = Graph(boost::edges_are_unsorted_multi_pass, arcs.begin(), arcs.end(), ids.begin(), n_ + 2);
+    std::vector<std::pair<int, int>>().swap(arcs);
+    std::vector<ArcId>().swap(ids);
+    csr_of_arc_.assign(num_arcs_, -1);
+    std::vector<EdgeDesc> by_arc(num_arcs_);
+    const auto edge_index = get(boost::edge_index, graph_);
+    for (auto [it, end] = boost::edges(graph_); it != end; ++it) {
+      const int id = graph_[*it].id;
+      csr_of_arc_[id] = static_cast<int>(get(edge_index, *it));
+      by_arc[id] = *it;
+    }
+    reverse_.resize(num_arcs_);
+    for (size_t k = 0; k < num_arcs_; ++k) reverse_[csr_of_arc_[k]] = by_arc[k ^ 1];
+    capacity_.assign(num_arcs_, 0.0);
+    residual_.assign(num_arcs_, 0.0);
+    for (int e = 0; e < E; ++e) {
+      capacity_[csr_of_arc_[2 * e]] = init_caps_[2 * e];
+      capacity_[csr_of_arc_[2 * e + 1]] = init_caps_[2 * e + 1];
+    }
+    std::vector<double>().swap(init_caps_);
+    predecessor_.resize(n_ + 2);
+    color_.resize(n_ + 2);
+    distance_.resize(n_ + 2);
+    built_ = true;
+  }
+
+  int n_ = 0;
+  bool built_ = false;
+  std::vector<std::pair<int, int>> pairs_;
+  std::vector<double> init_caps_;
+  std::vector<double> terminal_;
+  double constant_flow_ = 0;
+  Graph graph_;
+  size_t num_arcs_ = 0;
+  std::vector<int> csr_of_arc_;  // Our arc id (2e, 2e+1, then 4 per node) -> CSR edge index.
+  std::vector<double> capacity_, residual_;
+  std::vector<EdgeDesc> reverse_, predecessor_;
+  std::vector<boost::default_color_type> color_;
+  std::vector<long> distance_;
+};
+
+struct Args {
+  std::vector<std::string> problems{"grid2d", "grid3d"};
+  std::vector<std::string> solvers{"semvox", "boost", "icm"};
+  int labels = 21;
+  float potts = 0.5f;
+  uint64_t seed = 1;
+  std::string init = "argmin";
+  int size3d = 100;
+};
+
+std::vector<std::string> Split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');) out.push_back(item);
+  return out;
+}
+
+CrfEnergy MakeGridEnergy(const std::string& problem, const Args& args) {
+  const bool is3d = problem == "grid3d";
+  const int nx = is3d ? args.size3d : 640, ny = is3d ? args.size3d : 480, nz = is3d ? args.size3d : 1;
+  const int n = nx * ny * nz;
+  CrfEnergy energy(n, args.labels);
+  std::mt19937_64 rng(args.seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (float& u : energy.mutable_unaries()) u = unit(rng);
+  energy.ReserveEdges(static_cast<size_t>(n) * (is3d ? 3 : 2));
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const int v = (z * ny + y) * nx + x;
+        if (x + 1 < nx) energy.AddEdge(v, v + 1, args.potts);
+        if (y + 1 < ny) energy.AddEdge(v, v + nx, args.potts);
+        if (z + 1 < nz) energy.AddEdge(v, v + nx * ny, args.potts);
+      }
+  return energy;
+}
+
+struct RunResult {
+  double energy = 0, initial_energy = 0, seconds = 0, max_flow_seconds = 0, build_seconds = 0;
+  int sweeps = 0;
+  long expansions = 0;
+  long peak_kb = 0;
+  int ok = 0;
+};
+
+RunResult RunSolver(const std::string& problem, const std::string& solver, const Args& args) {
+  RunResult r;
+  const auto t0 = std::chrono::steady_clock::now();
+  const CrfEnergy energy = MakeGridEnergy(problem, args);
+  r.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const InitialLabelling init = args.init == "zero" ? InitialLabelling::kAllZero : InitialLabelling::kUnaryArgmin;
+  std::vector<CrfLabel> labels;
+  CrfSolverSummary summary;
+  Status st;
+  if (solver == "semvox") {
+    AlphaExpansionOptions options;
+    options.initial_labelling = init;
+    st = MinimizeWithAlphaExpansion(energy, options, &labels, &summary);
+  } else if (solver == "boost") {
+    AlphaExpansionOptions options;
+    options.initial_labelling = init;
+    BoostBkGraph graph;
+    st = crf_internal::RunAlphaExpansion(energy, options, graph, &labels, &summary);
+  } else if (solver == "icm") {
+    IcmOptions options;
+    options.initial_labelling = init;
+    st = MinimizeWithIcm(energy, options, &labels, &summary);
+  } else if (solver == "none") {
+    st = Status::Ok();  // Problem construction only: the memory floor.
+    summary.final_energy = summary.initial_energy = energy.Evaluate(energy.UnaryArgmin());
+  } else {
+    std::fprintf(stderr, "unknown solver %s\n", solver.c_str());
+    return r;
+  }
+  if (!st.ok()) {
+    std::fprintf(stderr, "%s\n", st.message().c_str());
+    return r;
+  }
+  r.energy = summary.final_energy;
+  r.initial_energy = summary.initial_energy;
+  r.seconds = summary.seconds;
+  r.max_flow_seconds = summary.max_flow_seconds;
+  r.sweeps = summary.num_sweeps;
+  r.expansions = static_cast<long>(summary.num_expansions);
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  r.peak_kb = usage.ru_maxrss;
+  r.ok = 1;
+  return r;
+}
+
+// Runs one solver in a forked child so that its peak memory is its own.
+RunResult RunInChild(const std::string& problem, const std::string& solver, const Args& args) {
+  int fd[2];
+  if (pipe(fd) != 0) std::abort();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    const RunResult r = RunSolver(problem, solver, args);
+    if (write(fd[1], &r, sizeof(r)) != static_cast<ssize_t>(sizeof(r))) _exit(1);
+    _exit(0);
+  }
+  close(fd[1]);
+  RunResult r;
+  if (read(fd[0], &r, sizeof(r)) != static_cast<ssize_t>(sizeof(r))) r.ok = 0;
+  close(fd[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args args;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string key = argv[i], value = argv[i + 1];
+    if (key == "--problems") args.problems = Split(value);
+    else if (key == "--solvers") args.solvers = Split(value);
+    else if (key == "--labels") args.labels = std::atoi(value.c_str());
+    else if (key == "--potts") args.potts = std::strtof(value.c_str(), nullptr);
+    else if (key == "--seed") args.seed = std::strtoull(value.c_str(), nullptr, 10);
+    else if (key == "--init") args.init = value;
+    else if (key == "--size3d") args.size3d = std::atoi(value.c_str());
+    else {
+      std::fprintf(stderr, "unknown option %s\n", key.c_str());
+      return 2;
+    }
+  }
+  std::printf("crf_bench: %d labels, Potts weight %.3g, unaries U[0,1) seed %llu, start %s\n", args.labels,
+              args.potts, static_cast<unsigned long long>(args.seed), args.init.c_str());
+  std::printf("%-8s %-22s %18s %18s %7s %6s %9s %9s %8s\n", "problem", "solver", "initial E", "final E", "sweeps",
+              "cuts", "seconds", "maxflow s", "peak MB");
+  for (const std::string& problem : args.problems) {
+    double reference = 0;
+    bool have_reference = false;
+    for (const std::string& solver : args.solvers) {
+      const RunResult r = RunInChild(problem, solver, args);
+      if (!r.ok) {
+        std::printf("%-8s %-22s failed\n", problem.c_str(), solver.c_str());
+        continue;
+      }
+      const char* name = solver == "semvox"  ? "alpha-exp semvox BK"
+                         : solver == "boost" ? "alpha-exp Boost BK"
+                         : solver == "icm"   ? "ICM"
+                                             : "(problem only)";
+      std::printf("%-8s %-22s %18.6f %18.6f %7d %6ld %9.3f %9.3f %8.1f", problem.c_str(), name, r.initial_energy,
+                  r.energy, r.sweeps, r.expansions, r.seconds, r.max_flow_seconds, r.peak_kb / 1024.0);
+      if (solver == "semvox" || solver == "boost") {
+        if (!have_reference) {
+          reference = r.energy;
+          have_reference = true;
+        } else {
+          std::printf("   dE vs first: %.3g", r.energy - reference);
+        }
+      }
+      std::printf("\n");
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
