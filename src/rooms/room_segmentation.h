@@ -39,7 +39,8 @@ bool ParseRoomSegmentationMethod(const std::string& name, RoomSegmentationMethod
 
 struct RoomSegmentationOptions {
   RoomSegmentationMethod method = RoomSegmentationMethod::kDistanceWatershed;
-  double door_max_width_m = 1.3;      // Widest opening that can separate two rooms, metres. > 0.
+  double door_max_width_m = 2.0;      // Widest opening that can separate two rooms (doors and the wide
+                                      // openings floor plans still draw a room border across), metres. > 0.
   double saddle_ratio = 0.7;          // distance: a pass separates rooms only when narrower than this
                                       // fraction of the smaller room's inscribed radius... (0, 1].
   double saddle_ratio_larger = 0.5;   // distance: ... or than this fraction of the larger room's (a door
