@@ -199,9 +199,7 @@ inline int MaxFlowGraph<Capacity>::NextActive() {
 }
 
 template <typename Capacity>
-void MaxFlowGraph<Capacity>::Augment(int mid) {
-  const int s_node = arcs_[arcs_[mid].sister].head;
-  const int t_node = arcs_[mid].head;
+void MaxFlowGraph<Capacity>::Augment(int mid, int s_node, int t_node) {
   // Bottleneck along source -> s_node -> (mid) -> t_node -> sink.
   Capacity f = arcs_[mid].residual;
   int x = s_node;
@@ -272,7 +270,7 @@ void MaxFlowGraph<Capacity>::ProcessOrphan(int p, bool sink_tree) {
   for (int a = begin; a < end; ++a) {
     const Arc& arc = arcs_[a];
     const Capacity residual = sink_tree ? arc.residual : arcs_[arc.sister].residual;
-    if (residual == 0) continue;
+    if (!(residual > 0)) continue;
     const int q = arc.head;
     const Node& qn = nodes_[q];
     if (qn.parent == kNone || qn.in_sink_tree != sink_tree) continue;
@@ -371,11 +369,12 @@ Capacity MaxFlowGraph<Capacity>::Solve() {
     // Growth: extend p's tree over arcs with residual capacity in the tree direction; stop at the first
     // arc into the other tree (a source-to-sink path).
     Node& pn = nodes_[p];
-    int path_arc = kNone;  // Arc from the source tree to the sink tree.
+    int path_arc = kNone;  // Arc from the source tree to the sink tree ...
+    int path_s = kNone, path_t = kNone;  // ... and its two ends.
     const int begin = first_arc_[p], end = first_arc_[p + 1];
     if (!pn.in_sink_tree) {
       for (int a = begin; a < end; ++a) {
-        if (arcs_[a].residual == 0) continue;
+        if (!(arcs_[a].residual > 0)) continue;
         const int q = arcs_[a].head;
         Node& qn = nodes_[q];
         if (qn.parent == kNone) {
@@ -386,6 +385,8 @@ Capacity MaxFlowGraph<Capacity>::Solve() {
           Activate(q);
         } else if (qn.in_sink_tree) {
           path_arc = a;
+          path_s = p;
+          path_t = q;
           break;
         } else if (qn.timestamp <= pn.timestamp && qn.distance > pn.distance) {
           // q is in the same tree but farther from the source: shorten its path through p.
@@ -397,7 +398,7 @@ Capacity MaxFlowGraph<Capacity>::Solve() {
     } else {
       for (int a = begin; a < end; ++a) {
         const int sister = arcs_[a].sister;
-        if (arcs_[sister].residual == 0) continue;
+        if (!(arcs_[sister].residual > 0)) continue;
         const int q = arcs_[a].head;
         Node& qn = nodes_[q];
         if (qn.parent == kNone) {
@@ -408,6 +409,8 @@ Capacity MaxFlowGraph<Capacity>::Solve() {
           Activate(q);
         } else if (!qn.in_sink_tree) {
           path_arc = sister;
+          path_s = q;
+          path_t = p;
           break;
         } else if (qn.timestamp <= pn.timestamp && qn.distance > pn.distance) {
           qn.parent = sister;
@@ -424,7 +427,7 @@ Capacity MaxFlowGraph<Capacity>::Solve() {
     // p may have more paths: keep it as the current node, marked active so that it is not queued twice.
     nodes_[p].next_active = p;
     current = p;
-    Augment(path_arc);
+    Augment(path_arc, path_s, path_t);
     // Adoption: orphans may create new orphans; process them in order.
     for (size_t k = 0; k < orphans_.size(); ++k) {
       const int o = orphans_[k];

@@ -124,7 +124,8 @@ class MaxFlowGraph {
   void UnbuildArcs();
   void Activate(int node);
   int NextActive();
-  void Augment(int arc_from_source_tree);
+  // Pushes the bottleneck along source ~> s_node -> (arc) -> t_node ~> sink.
+  void Augment(int arc, int s_node, int t_node);
   void ProcessOrphan(int node, bool sink_tree);
 
   std::vector<Node> nodes_;
