@@ -135,6 +135,7 @@ TopViewScores ScoreTopView(const ImageU16& gt_topview, const ImageU16& gt_rooms,
     for (int c = 0; c < grid.width; ++c) {
       const int g = gt_topview.at(c, r);
       if (g == 0 && gt_rooms.at(c, r) == 0) continue;  // Outside the apartment.
+      if (g == kTopViewHidden) continue;                // Inside a solid no scanner sees: not scored.
       ++n;
       const double x = grid.CenterX(c), y = grid.CenterY(r);
       if (occ) {

@@ -88,8 +88,8 @@ using VoxelLabels = std::unordered_map<uint64_t, int>;
 // label that most faces passing through a voxel carry (exact triangle-box overlap; ties to the lower id).
 VoxelLabels VoxelizeLabeledMesh(const Mesh& mesh, double resolution);
 
-// (a) `gt_topview`: NYU40 label per pixel (0 empty) on `grid`; the footprint is where gt_rooms or
-// gt_topview is non-zero. `pred_topview` (may be null): predicted labels on the same grid.
+// (a) `gt_topview`: NYU40 label per pixel (0 empty, kTopViewHidden not scored) on `grid`; the footprint
+// is where gt_rooms or gt_topview is non-zero. `pred_topview` (may be null): predicted labels on the same grid.
 TopViewScores ScoreTopView(const ImageU16& gt_topview, const ImageU16& gt_rooms, const FloorGrid& grid,
                            const OccupancyMap* occupancy, const ImageU16* pred_topview);
 // Predicted top-view labels on `grid` from voxel centres: the label of the highest voxel in [z_lo, z_hi).

@@ -76,11 +76,19 @@ ImageU16 RasterizeTopView(const Apartment& apt, const FloorGrid& g, const Ground
     if (!g.PixelOf(std::max(b.center.x() - ex, g.origin_x), std::min(b.center.y() + ey, g.origin_y + g.height * g.resolution - 1e-9), &c0, &r0) ||
         !g.PixelOf(std::min(b.center.x() + ex, g.origin_x + g.width * g.resolution - 1e-9), std::max(b.center.y() - ey, g.origin_y), &c1, &r1))
       continue;
-    for (int r = r0; r <= r1; ++r)
-      for (int c = c0; c <= c1; ++c) {
-        const double dx = g.CenterX(c) - b.center.x(), dy = g.CenterY(r) - b.center.y();
+    // A solid covers a pixel when it overlaps the pixel's cell, half-open as the voxel keys are: the
+    // cell is shifted down by a hair, so a face on a cell edge belongs to the cell above it (as in
+    // mapping/voxelizer.cc). Separating-axis test of the cell square against the solid's rectangle.
+    const double half = 0.5 * g.resolution, eps = 1e-4 * g.resolution;
+    const double bx = b.size.x() / 2, by = b.size.y() / 2;
+    for (int r = std::max(0, r0 - 1); r <= std::min(g.height - 1, r1 + 1); ++r)
+      for (int c = std::max(0, c0 - 1); c <= std::min(g.width - 1, c1 + 1); ++c) {
+        const double dx = g.CenterX(c) - eps - b.center.x(), dy = g.CenterY(r) - eps - b.center.y();
+        if (std::fabs(dx) > half + std::fabs(cs) * bx + std::fabs(sn) * by) continue;
+        if (std::fabs(dy) > half + std::fabs(sn) * bx + std::fabs(cs) * by) continue;
         const double lx = cs * dx + sn * dy, ly = -sn * dx + cs * dy;
-        if (std::fabs(lx) > b.size.x() / 2 || std::fabs(ly) > b.size.y() / 2) continue;
+        if (std::fabs(lx) > bx + half * (std::fabs(cs) + std::fabs(sn))) continue;
+        if (std::fabs(ly) > by + half * (std::fabs(sn) + std::fabs(cs))) continue;
         const size_t i = size_t(r) * g.width + c;
         // The highest solid wins; at equal height the smaller one (what stands on or in the larger).
         if (top > best_top[i] + 1e-9 || (std::fabs(top - best_top[i]) <= 1e-9 && area < best_area[i])) {
@@ -90,6 +98,24 @@ ImageU16 RasterizeTopView(const Apartment& apt, const FloorGrid& g, const Ground
         }
       }
   }
+  // Columns a surface passes through within the band: sample every face at a quarter pixel.
+  std::vector<uint8_t> seen(size_t(g.width) * g.height, 0);
+  const Mesh& m = apt.mesh;
+  for (const Eigen::Vector3i& f : m.faces) {
+    const Eigen::Vector3d a = m.vertices[size_t(f[0])].cast<double>(), b = m.vertices[size_t(f[1])].cast<double>(),
+                          c = m.vertices[size_t(f[2])].cast<double>();
+    if (std::max({a.z(), b.z(), c.z()}) < lo || std::min({a.z(), b.z(), c.z()}) >= hi) continue;
+    const double edge = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const int n = std::max(1, int(std::ceil(edge / (0.25 * g.resolution))));
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const Eigen::Vector3d p = a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n);
+        int pc, pr;
+        if (p.z() >= lo && p.z() < hi && g.PixelOf(p.x(), p.y(), &pc, &pr)) seen[size_t(pr) * g.width + pc] = 1;
+      }
+  }
+  for (size_t i = 0; i < img.data.size(); ++i)
+    if (img.data[i] != 0 && !seen[i]) img.data[i] = kTopViewHidden;
   return img;
 }
 
@@ -107,7 +133,7 @@ ImageRgb8 RenderPreview(const Apartment& apt, const ImageU16& rooms, const Image
       const int id = rooms.at(c, r);
       if (id > 0 && id <= int(apt.rooms.size())) col = kTint[apt.rooms[size_t(id - 1)].type_id];
       const int l = topview.at(c, r);
-      if (l == nyu40::kWall) col = Rgb8{60, 60, 60};
+      if (l == nyu40::kWall || l == kTopViewHidden) col = Rgb8{60, 60, 60};
       else if (l > 0 && l < kNumNyu40) col = labels[size_t(l)].color;
       for (int y = 0; y < scale; ++y)
         for (int x = 0; x < scale; ++x) {
@@ -143,6 +169,7 @@ std::string GroundTruthJson(const Apartment& apt, const FloorGrid& g, const Grou
   j["rooms_gt"]["image"] = "rooms_gt.png";
   j["topview_gt"] = grid;
   j["topview_gt"]["image"] = "topview_gt.png";
+  j["topview_gt"]["hidden_value"] = kTopViewHidden;
   j["files"] = {{"mesh", "mesh.ply"}, {"gt_mesh", "gt_mesh.ply"}};
   if (with_cloud) j["files"]["cloud"] = "cloud.ply";
   ordered_json rooms = ordered_json::array();

@@ -44,7 +44,11 @@ struct GroundTruthOptions {
 FloorGrid MakeFloorGrid(const Apartment& apartment, const GroundTruthOptions& options);
 // Room ids at pixel centres inside each room's clear interior.
 ImageU16 RasterizeRooms(const Apartment& apartment, const FloorGrid& grid);
-// NYU40 label of the highest solid in the height band above each pixel centre (0 = empty).
+// Value of topview_gt.png pixels covered by a solid whose inside no scanner can see within the height
+// band (the core of a wall, the body of a wardrobe whose top is above the band): not scored.
+inline constexpr uint16_t kTopViewHidden = 65535;
+// NYU40 label of the highest solid in the height band above each pixel centre (0 = empty), or
+// kTopViewHidden where no surface of the clean mesh passes through the pixel's column within the band.
 ImageU16 RasterizeTopView(const Apartment& apartment, const FloorGrid& grid, const GroundTruthOptions& options);
 
 // A colour picture of the ground truth for people: rooms tinted by type, the top view in NYU40 colours,

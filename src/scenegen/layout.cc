@@ -406,7 +406,7 @@ bool PlaceDoors(FloorPlan* plan, Rng* rng) {
     const auto& [s, seg] = rng->Pick(ext);
     double a, b;
     UsableInterval(*plan, i, s, seg, 0.15, &a, &b);
-    const double width = rng->Uniform(0.85, 0.95);
+    const double width = rng->Uniform(0.85, 0.9);
     const double start = rng->Uniform(a, b - width);
     plan->doors.push_back(PlanDoor{i, -1, s, start, start + width, rng->Uniform(2.0, 2.1)});
     return true;
