@@ -7,6 +7,7 @@
 // FloorPlanOptions field (saddle_ratio, min_room_radius_m, door_max_width_m, min_room_area_m2,
 // min_seed_area_m2, clutter_max_area_m2, max_speck_distance_m). Timing covers floor plan + segmentation.
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -73,7 +74,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::sort(maps.begin(), maps.end());
-  std::printf("# ipa_room_seg test maps: %zu; recall / precision as Bormann et al. 2016; seconds = floor plan + rooms\n",
+  std::printf("# ipa_room_seg test maps: %zu; recall / precision as Bormann et al. 2016; seconds = floor plan + rooms (wall clock; cpu = process time, less sensitive to load)\n",
               maps.size());
   for (const std::string& method_name : methods) {
     RoomSegmentationOptions o = seg;
@@ -82,7 +83,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     for (const char* variant : {"", "_furnitures"}) {
-      double sr = 0, sp = 0, ss = 0;
+      double sr = 0, sp = 0, ss = 0, sc = 0;
       for (const std::string& m : maps) {
         auto gt_grey = ReadGreyMap(data + "/" + m + "_gt_segmentation.png");
         auto map_grey = ReadGreyMap(data + "/" + m + variant + ".png");
@@ -92,9 +93,11 @@ int main(int argc, char** argv) {
         }
         const ImageU16 gt = GroundTruthRoomsFromImage(gt_grey.value());
         const auto t0 = std::chrono::steady_clock::now();
+        const std::clock_t c0 = std::clock();
         const FloorPlan plan = FloorPlanFromImage(map_grey.value(), 0.05, fp);
         const RoomSegmentation rooms = SegmentRooms(plan, o);
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
         const RoomScore score = ScoreRooms(rooms.room_ids, gt);
         if (per_map)
           std::printf("%-14s %-28s recall %.3f precision %.3f rooms %3d (gt %3d) %.3f s\n", method_name.c_str(),
@@ -111,11 +114,11 @@ int main(int argc, char** argv) {
             }
           cv::imwrite(dump_dir + "/" + method_name + "_" + m + variant + ".png", img);
         }
-        sr += score.recall, sp += score.precision, ss += s;
+        sr += score.recall, sp += score.precision, ss += s, sc += cpu;
       }
       const double n = double(maps.size());
-      std::printf("MEAN %-14s %-11s recall %.3f precision %.3f  %.3f s/map\n", method_name.c_str(),
-                  *variant ? "furnished" : "plain", sr / n, sp / n, ss / n);
+      std::printf("MEAN %-14s %-11s recall %.3f precision %.3f  %.3f s/map (cpu %.3f s)\n", method_name.c_str(),
+                  *variant ? "furnished" : "plain", sr / n, sp / n, ss / n, sc / n);
     }
   }
   return 0;
