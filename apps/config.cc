@@ -92,6 +92,22 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, clutter_max_length_m, 0, 100, "2D maps: ... and up to this bounding-box diagonal, metres"));
     f.push_back(SEMVOX_INT_FIELD("rooms", floor_plan, free_threshold, 0, 254, "2D maps: grey values above this are free"));
     // ---- end rooms ----
+    // render: viewpoints and virtual views (render/views.h).
+    f.push_back(SEMVOX_INT_FIELD("render", render, width, 16, 8192, "view width, pixels"));
+    f.push_back(SEMVOX_INT_FIELD("render", render, height, 16, 8192, "view height, pixels"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, horizontal_fov_deg, 2, 170, "horizontal field of view, degrees"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, height_fraction, 0.05, 0.95, "camera height between floor (0) and ceiling (1)"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, grid_spacing_m, 0.1, 100, "one viewpoint per square of this side, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, wall_clearance_m, 0, 10, "min distance from a viewpoint to a non-free voxel, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, yaw_step_deg, 1, 360, "yaw between views of a viewpoint, degrees; divides 360"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, pitch_deg, -89, 89, "camera pitch of the main ring, degrees (> 0 looks up)"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, tilted_ring_deg, 0, 89, "extra rings tilted down and up by this much (0: none), degrees"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, tilted_ring_yaw_step_deg, 1, 360, "yaw between views of the tilted rings, degrees; divides 360"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, max_depth_m, 0.01, 1e6, "hits deeper than this stay empty, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, min_median_depth_m, 0, 100, "drop views with a smaller median depth (too close to a wall), metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, min_color_stddev, 0, 255, "drop views with a smaller colour spread (too homogeneous), 0-255"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, min_hit_fraction, 0, 1, "drop views where fewer pixels hit the scene"));
+    f.push_back(SEMVOX_INT_FIELD("render", render, thumbnail_width, 16, 8192, "width of --save-views thumbnails, pixels"));
     return f;
   }();
   return kFields;
@@ -172,6 +188,7 @@ Status CheckConfig(const PipelineConfig& config) {
   if (!config.occupancy.Check(&error)) return Status::InvalidInput("configuration: occupancy." + error);
   if (!config.floor_plan.Check(&error)) return Status::InvalidInput("configuration: rooms." + error);
   if (!config.rooms.Check(&error)) return Status::InvalidInput("configuration: rooms." + error);
+  if (!config.render.Check(&error)) return Status::InvalidInput("configuration: render." + error);
   return Status::Ok();
 }
 

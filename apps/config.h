@@ -13,6 +13,7 @@
 #include "mapping/voxelizer.h"
 #include "rooms/floor_plan.h"
 #include "rooms/room_segmentation.h"
+#include "render/views.h"
 
 namespace semvox {
 
@@ -22,6 +23,7 @@ struct PipelineConfig {
   OccupancyOptions occupancy;
   FloorPlanOptions floor_plan;     // Section "rooms": floor plan fields (rooms/floor_plan.h).
   RoomSegmentationOptions rooms;   // Section "rooms": segmentation fields (rooms/room_segmentation.h).
+  ViewsOptions render;  // Section "render": viewpoints and virtual views (render/views.h).
 };
 
 // Applies the settings in `path` on top of `config`.

@@ -1,0 +1,340 @@
+#include "render/views.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "core/log.h"
+
+namespace semvox {
+namespace {
+
+// "Infinite" distance for cells with no obstacle in reach; finite so the parabola algebra stays exact.
+constexpr double kFar = 1e20;
+
+// Squared Euclidean distance transform of a 1-D function (Felzenszwalb & Huttenlocher, "Distance
+// Transforms of Sampled Functions", Theory of Computing 2012, Algorithm 1): d[q] = min_p (q - p)^2 + f[p].
+void Edt1d(const std::vector<double>& f, std::vector<double>* d, std::vector<int>* v, std::vector<double>* z) {
+  const int n = int(f.size());
+  int k = 0;
+  (*v)[0] = 0;
+  (*z)[0] = -std::numeric_limits<double>::infinity();
+  (*z)[1] = std::numeric_limits<double>::infinity();
+  for (int q = 1; q < n; ++q) {
+    const auto meet = [&](int p) { return ((f[q] + double(q) * q) - (f[p] + double(p) * p)) / (2.0 * q - 2.0 * p); };
+    double s = meet((*v)[k]);
+    while (s <= (*z)[k]) s = meet((*v)[--k]);  // Terminates: z[0] = -infinity.
+    ++k;
+    (*v)[k] = q;
+    (*z)[k] = s;
+    (*z)[k + 1] = std::numeric_limits<double>::infinity();
+  }
+  k = 0;
+  for (int q = 0; q < n; ++q) {
+    while ((*z)[k + 1] < q) ++k;
+    const int p = (*v)[k];
+    (*d)[q] = std::min(kFar, double(q - p) * (q - p) + f[p]);
+  }
+}
+
+// Squared distance, in cells, from every cell of an nx x ny layer to the nearest obstacle cell.
+std::vector<double> SquaredDistanceToObstacles(const std::vector<uint8_t>& obstacle, int nx, int ny) {
+  std::vector<double> dist(size_t(nx) * ny);
+  const int n = std::max(nx, ny);
+  std::vector<double> f(n), d(n), z(n + 1);
+  std::vector<int> v(n);
+  f.resize(ny), d.resize(ny);
+  for (int x = 0; x < nx; ++x) {  // Columns.
+    for (int y = 0; y < ny; ++y) f[y] = obstacle[size_t(y) * nx + x] ? 0.0 : kFar;
+    Edt1d(f, &d, &v, &z);
+    for (int y = 0; y < ny; ++y) dist[size_t(y) * nx + x] = d[y];
+  }
+  f.resize(nx), d.resize(nx);
+  for (int y = 0; y < ny; ++y) {  // Rows.
+    for (int x = 0; x < nx; ++x) f[x] = dist[size_t(y) * nx + x];
+    Edt1d(f, &d, &v, &z);
+    for (int x = 0; x < nx; ++x) dist[size_t(y) * nx + x] = d[x];
+  }
+  return dist;
+}
+
+double ViewHeight(const VoxelMap& map, const ViewsOptions& options) {
+  if (map.floor_found && map.ceiling_found && map.ceiling_z > map.floor_z)
+    return map.floor_z + options.height_fraction * (map.ceiling_z - map.floor_z);
+  if (!map.scan_positions.empty()) {
+    double z = 0;
+    for (const auto& p : map.scan_positions) z += p.z();
+    SEMVOX_WARN("views: floor or ceiling not found; cameras placed at the scan height");
+    return z / double(map.scan_positions.size());
+  }
+  const Eigen::Vector3d lo = map.grid.MinCorner();
+  return lo.z() + 0.5 * map.grid.dims()[2] * map.grid.resolution();
+}
+
+}  // namespace
+
+const char* ViewDropName(ViewDrop d) {
+  switch (d) {
+    case ViewDrop::kKept: return "kept";
+    case ViewDrop::kEmpty: return "empty";
+    case ViewDrop::kTooClose: return "too_close";
+    case ViewDrop::kHomogeneous: return "homogeneous";
+  }
+  return "?";
+}
+
+bool ViewsOptions::Check(std::string* error) const {
+  std::ostringstream os;
+  const auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
+  const double views_per_turn = 360.0 / yaw_step_deg;
+  if (width < 16 || width > 8192) os << "width = " << width << ". Violated constraint: 16 <= width <= 8192";
+  else if (height < 16 || height > 8192) os << "height = " << height << ". Violated constraint: 16 <= height <= 8192";
+  else if (!in(horizontal_fov_deg, 2, 170))
+    os << "horizontal_fov_deg = " << horizontal_fov_deg << ". Violated constraint: 2 <= horizontal_fov_deg <= 170";
+  else if (!in(height_fraction, 0.05, 0.95))
+    os << "height_fraction = " << height_fraction << ". Violated constraint: 0.05 <= height_fraction <= 0.95";
+  else if (!in(grid_spacing_m, 0.1, 100))
+    os << "grid_spacing_m = " << grid_spacing_m << ". Violated constraint: 0.1 <= grid_spacing_m <= 100";
+  else if (!in(wall_clearance_m, 0, 10))
+    os << "wall_clearance_m = " << wall_clearance_m << ". Violated constraint: 0 <= wall_clearance_m <= 10";
+  else if (!in(yaw_step_deg, 1, 360) || std::abs(views_per_turn - std::round(views_per_turn)) > 1e-6)
+    os << "yaw_step_deg = " << yaw_step_deg << ". Violated constraint: 1 <= yaw_step_deg <= 360 and divides 360";
+  else if (!in(pitch_deg, -89, 89)) os << "pitch_deg = " << pitch_deg << ". Violated constraint: -89 <= pitch_deg <= 89";
+  else if (!in(tilted_ring_deg, 0, 89) || !in(pitch_deg + tilted_ring_deg, -89, 89) || !in(pitch_deg - tilted_ring_deg, -89, 89))
+    os << "tilted_ring_deg = " << tilted_ring_deg << ". Violated constraint: 0 <= tilted_ring_deg <= 89 and "
+       << "-89 <= pitch_deg +- tilted_ring_deg <= 89";
+  else if (!in(tilted_ring_yaw_step_deg, 1, 360) ||
+           std::abs(360.0 / tilted_ring_yaw_step_deg - std::round(360.0 / tilted_ring_yaw_step_deg)) > 1e-6)
+    os << "tilted_ring_yaw_step_deg = " << tilted_ring_yaw_step_deg
+       << ". Violated constraint: 1 <= tilted_ring_yaw_step_deg <= 360 and divides 360";
+  else if (!(max_depth_m > 0) || std::isnan(max_depth_m))
+    os << "max_depth_m = " << max_depth_m << ". Violated constraint: max_depth_m > 0";
+  else if (!(min_median_depth_m >= 0)) os << "min_median_depth_m = " << min_median_depth_m << ". Violated constraint: >= 0";
+  else if (!(min_color_stddev >= 0)) os << "min_color_stddev = " << min_color_stddev << ". Violated constraint: >= 0";
+  else if (!in(min_hit_fraction, 0, 1))
+    os << "min_hit_fraction = " << min_hit_fraction << ". Violated constraint: 0 <= min_hit_fraction <= 1";
+  else if (thumbnail_width < 16 || thumbnail_width > 8192)
+    os << "thumbnail_width = " << thumbnail_width << ". Violated constraint: 16 <= thumbnail_width <= 8192";
+  if (os.str().empty()) return true;
+  if (error) *error = os.str();
+  return false;
+}
+
+size_t ViewSet::num_kept() const {
+  return size_t(std::count_if(views.begin(), views.end(), [](const ViewRecord& v) { return v.kept(); }));
+}
+
+std::vector<Eigen::Vector3d> PlaceViewpoints(const VoxelMap& map, const ViewsOptions& options, double* view_z) {
+  const VoxelGrid& grid = map.grid;
+  const double z = ViewHeight(map, options);
+  if (view_z) *view_z = z;
+  std::vector<Eigen::Vector3d> positions;
+  const int nx = grid.dims()[0], ny = grid.dims()[1];
+  if (grid.size() == 0) return positions;
+  const int iz = grid.CellOf(Eigen::Vector3d(0, 0, z))[2];
+  if (iz < 0 || iz >= grid.dims()[2]) return positions;
+
+  // Mid-height layer: distance from every free voxel to the nearest voxel that is not free.
+  std::vector<uint8_t> obstacle(size_t(nx) * ny);
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x)
+      obstacle[size_t(y) * nx + x] = grid.state(grid.Index(x, y, iz)) != VoxelState::kFree;
+  const std::vector<double> d2 = SquaredDistanceToObstacles(obstacle, nx, ny);
+  const double res = grid.resolution();
+  // A voxel centre is clear when the nearest non-free voxel's centre is more than clearance + half a
+  // voxel away (so the voxel's nearest face is at least the clearance away).
+  const double min_cells = options.wall_clearance_m / res + 0.5;
+
+  // One viewpoint per grid_spacing_m square (squares aligned to world multiples of the spacing): the
+  // clear voxel nearest the square's centre.
+  struct Best {
+    double dist2;
+    Eigen::Vector3d p;
+  };
+  std::map<std::pair<int64_t, int64_t>, Best> best;
+  const double s = options.grid_spacing_m;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) {
+      const size_t i = size_t(y) * nx + x;
+      if (obstacle[i] || d2[i] < min_cells * min_cells) continue;
+      const Eigen::Vector3d c = grid.CellCenter(x, y, iz);
+      const int64_t sx = int64_t(std::floor(c.x() / s)), sy = int64_t(std::floor(c.y() / s));
+      const Eigen::Vector2d centre((sx + 0.5) * s, (sy + 0.5) * s);
+      const double dc = (c.head<2>() - centre).squaredNorm();
+      auto [it, inserted] = best.try_emplace({sy, sx}, Best{dc, Eigen::Vector3d(c.x(), c.y(), z)});
+      if (!inserted && dc < it->second.dist2) it->second = Best{dc, Eigen::Vector3d(c.x(), c.y(), z)};
+    }
+  for (const auto& [square, b] : best) positions.push_back(b.p);
+  return positions;
+}
+
+void MeasureView(const RenderedView& view, const ViewsOptions& options, ViewRecord* record) {
+  const size_t n = view.depth.data.size();
+  std::vector<float> depths;
+  depths.reserve(view.hit_pixels);
+  double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+  for (size_t i = 0; i < n; ++i) {
+    if (view.primitive.data[i] < 0) continue;
+    depths.push_back(view.depth.data[i]);
+    for (int c = 0; c < 3; ++c) {
+      const double v = view.rgb.data[3 * i + c];
+      sum[c] += v;
+      sum2[c] += v * v;
+    }
+  }
+  const size_t hits = depths.size();
+  record->hit_fraction = n ? double(hits) / double(n) : 0.0;
+  record->median_depth_m = 0;
+  record->color_stddev = 0;
+  if (hits > 0) {
+    std::nth_element(depths.begin(), depths.begin() + hits / 2, depths.end());
+    record->median_depth_m = depths[hits / 2];
+    double var = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double mean = sum[c] / double(hits);
+      var += std::max(0.0, sum2[c] / double(hits) - mean * mean);
+    }
+    record->color_stddev = std::sqrt(var / 3.0);
+  }
+  if (hits == 0 || record->hit_fraction < options.min_hit_fraction) record->drop = ViewDrop::kEmpty;
+  else if (record->median_depth_m < options.min_median_depth_m) record->drop = ViewDrop::kTooClose;
+  else if (record->color_stddev < options.min_color_stddev) record->drop = ViewDrop::kHomogeneous;
+  else record->drop = ViewDrop::kKept;
+}
+
+Result<ViewSet> RenderViews(const ViewRenderer& renderer, const VoxelMap& map, const ViewsOptions& options,
+                            const ViewSink& sink) {
+  std::string error;
+  if (!options.Check(&error)) return Status::InvalidInput("configuration: render." + error);
+  ViewSet set;
+  set.camera = options.Camera();
+  set.voxel_size_m = map.grid.resolution();
+  set.positions = PlaceViewpoints(map, options, &set.view_z);
+  if (set.positions.empty())
+    return Status::InvalidInput("views: no free voxel at camera height z = " + std::to_string(set.view_z) + " is " +
+                                std::to_string(options.wall_clearance_m) +
+                                " m from the nearest non-free voxel (hint: lower render.wall_clearance_m, or check "
+                                "that the scene is an enclosed interior)");
+  // (pitch, yaw step) of each ring: the main ring first, then the tilted ones.
+  std::vector<std::pair<double, double>> rings{{options.pitch_deg, options.yaw_step_deg}};
+  if (options.tilted_ring_deg > 0) {
+    rings.push_back({options.pitch_deg - options.tilted_ring_deg, options.tilted_ring_yaw_step_deg});
+    rings.push_back({options.pitch_deg + options.tilted_ring_deg, options.tilted_ring_yaw_step_deg});
+  }
+  const RenderOptions render = options.Render(map.grid.resolution());
+  set.voxel_seen.assign(map.grid.size(), 0);
+  RenderedView view;
+  double seconds = 0;
+  for (size_t p = 0; p < set.positions.size(); ++p) {
+    for (const auto& [pitch, yaw_step] : rings) {
+      for (int k = 0; k < int(std::lround(360.0 / yaw_step)); ++k) {
+        ViewRecord r;
+        r.id = int(set.views.size());
+        r.position = int(p);
+        r.yaw_deg = k * yaw_step;
+        r.pitch_deg = pitch;
+        r.world_from_camera = WorldFromCameraYawPitch(set.positions[p], r.yaw_deg, r.pitch_deg);
+        const auto t0 = std::chrono::steady_clock::now();
+        SEMVOX_RETURN_IF_ERROR(renderer.Render(set.camera, r.world_from_camera, render, &view));
+        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        MeasureView(view, options, &r);
+        if (r.kept()) {
+          std::array<int, 3> cell;
+          for (size_t i = 0; i < view.primitive.data.size(); ++i)
+            if (view.primitive.data[i] >= 0 && map.grid.CellOfKey(view.voxel_key.data[i], &cell))
+              set.voxel_seen[map.grid.Index(cell[0], cell[1], cell[2])] = 1;
+        }
+        if (sink) SEMVOX_RETURN_IF_ERROR(sink(r, view));
+        set.views.push_back(r);
+      }
+    }
+  }
+  set.seconds_render = seconds;
+  return set;
+}
+
+std::string ThumbnailName(int view_id) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "views/view_%05d.png", view_id);
+  return buf;
+}
+
+std::string ViewsToJson(const ViewSet& set, const ViewsOptions& options, bool with_thumbnails) {
+  using json = nlohmann::ordered_json;
+  json j;
+  j["conventions"] = {
+      {"world", "input frame, metres, +Z up"},
+      {"camera", "x right, y down, z forward (OpenCV); pixel (0,0) centre at (0.5, 0.5)"},
+      {"world_from_camera", "4x4 row-major; maps camera coordinates to world coordinates"},
+      {"yaw_deg", "about world +Z from +X towards +Y"},
+      {"pitch_deg", "> 0 looks up"}};
+  const PinholeCamera& c = set.camera;
+  j["intrinsics"] = {{"model", "pinhole"}, {"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy},
+                     {"cx", c.cx},         {"cy", c.cy},       {"horizontal_fov_deg", c.HorizontalFovDeg()},
+                     {"vertical_fov_deg", c.VerticalFovDeg()}};
+  j["voxel_size_m"] = set.voxel_size_m;
+  j["camera_z"] = set.view_z;
+  j["filters"] = {{"min_hit_fraction", options.min_hit_fraction},
+                  {"min_median_depth_m", options.min_median_depth_m},
+                  {"min_color_stddev", options.min_color_stddev}};
+  std::map<std::string, size_t> counts{{"kept", 0}, {"empty", 0}, {"too_close", 0}, {"homogeneous", 0}};
+  for (const auto& v : set.views) ++counts[ViewDropName(v.drop)];
+  j["counts"] = {{"positions", set.positions.size()}, {"views", set.views.size()}, {"kept", counts["kept"]},
+                 {"dropped_empty", counts["empty"]}, {"dropped_too_close", counts["too_close"]},
+                 {"dropped_homogeneous", counts["homogeneous"]}};
+  json positions = json::array();
+  for (const auto& p : set.positions) positions.push_back({p.x(), p.y(), p.z()});
+  j["positions"] = positions;
+  json views = json::array();
+  for (const auto& v : set.views) {
+    json m = json::array();
+    const Eigen::Matrix4d t = v.world_from_camera.matrix();
+    for (int r = 0; r < 4; ++r) m.push_back({t(r, 0), t(r, 1), t(r, 2), t(r, 3)});
+    json e = {{"id", v.id},
+              {"position", v.position},
+              {"yaw_deg", v.yaw_deg},
+              {"pitch_deg", v.pitch_deg},
+              {"world_from_camera", m},
+              {"kept", v.kept()},
+              {"drop_reason", v.kept() ? "" : ViewDropName(v.drop)},
+              {"hit_fraction", v.hit_fraction},
+              {"median_depth_m", v.median_depth_m},
+              {"color_stddev", v.color_stddev}};
+    if (with_thumbnails) e["thumbnail"] = ThumbnailName(v.id);
+    views.push_back(e);
+  }
+  j["views"] = views;
+  return j.dump(1) + "\n";
+}
+
+SurfaceCoverage ComputeSurfaceCoverage(const VoxelGrid& grid, const std::vector<uint8_t>& voxel_seen) {
+  SurfaceCoverage cov;
+  const auto& d = grid.dims();
+  const int offsets[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (int z = 0; z < d[2]; ++z)
+    for (int y = 0; y < d[1]; ++y)
+      for (int x = 0; x < d[0]; ++x) {
+        const size_t i = grid.Index(x, y, z);
+        if (grid.state(i) != VoxelState::kOccupied) continue;
+        bool surface = false;
+        for (const auto& o : offsets) {
+          const int a = x + o[0], b = y + o[1], c = z + o[2];
+          if (grid.Contains(a, b, c) && grid.state(grid.Index(a, b, c)) == VoxelState::kFree) {
+            surface = true;
+            break;
+          }
+        }
+        if (!surface) continue;
+        ++cov.surface_voxels;
+        if (i < voxel_seen.size() && voxel_seen[i]) ++cov.seen_voxels;
+      }
+  return cov;
+}
+
+}  // namespace semvox

@@ -1,0 +1,113 @@
+// The views stage: automatic viewpoints and virtual views of the whole apartment.
+//
+//   VoxelMap + Scene --RenderViews--> ViewSet (poses, intrinsics, kept / dropped, voxels seen)
+//
+// As in the room-labelling paper (Sec. III, "Overview"): viewpoints simulate a camera on a tripod turned
+// about the upright axis, placed halfway between floor and ceiling; each viewpoint gets 36 views 10 degrees
+// apart (yaw_step_deg), plus optional rings tilted up and down (tilted_ring_deg); a view is dropped when it is too close to a wall (median depth under
+// min_median_depth_m) or its colour too homogeneous (colour spread under min_color_stddev). Positions
+// spread over the whole free space: the mid-height layer of free voxels is cut into grid_spacing_m squares
+// and each square that holds a free voxel at least wall_clearance_m from any non-free voxel gets one
+// viewpoint, the clear voxel nearest the square's centre.
+//
+// Views are not kept in memory (a 640x480 view with all buffers is 9 MB); a ViewSink sees each one as it
+// is rendered (thumbnails, per-view classifiers). The poses in views.json re-render any view exactly.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "core/voxel_grid.h"
+#include "mapping/voxelizer.h"
+#include "render/camera.h"
+#include "render/view_renderer.h"
+
+namespace semvox {
+
+struct ViewsOptions {
+  int width = 640;                    // Image width, pixels. [16, 8192].
+  int height = 480;                   // Image height, pixels (4:3 as in the paper). [16, 8192].
+  double horizontal_fov_deg = 90.0;   // Horizontal field of view, degrees. [2, 170].
+  double height_fraction = 0.5;       // Camera height between floor (0) and ceiling (1). [0.05, 0.95].
+  double grid_spacing_m = 1.0;        // Side of the squares that each get one viewpoint, metres. [0.1, 100].
+  double wall_clearance_m = 0.4;      // Minimum distance from a viewpoint to a non-free voxel, metres. [0, 10].
+  double yaw_step_deg = 10.0;         // Yaw between views of one viewpoint (36 views), degrees; divides 360.
+  double pitch_deg = 0.0;             // Camera pitch of the main ring, degrees, > 0 looks up. [-89, 89].
+  // Extra rings tilted up and down by this much (0: none), for a tripod with several cameras like the
+  // Matterport scanner of the paper's data; without them the floor and ceiling near each viewpoint stay
+  // unseen. Degrees. [0, 89].
+  double tilted_ring_deg = 0.0;
+  double tilted_ring_yaw_step_deg = 30.0;  // Yaw between views of the tilted rings, degrees; divides 360.
+  double max_depth_m = 50.0;          // Hits deeper than this stay empty, metres. > 0.
+  double min_median_depth_m = 0.8;    // Drop views whose median depth (over hit pixels) is below, metres. >= 0.
+  double min_color_stddev = 6.0;      // Drop views whose colour spread (RMS of per-channel standard
+                                      // deviations over hit pixels, 0-255 scale) is below this. >= 0.
+  double min_hit_fraction = 0.25;     // Drop views where fewer pixels than this fraction hit the scene. [0, 1].
+  int thumbnail_width = 160;          // Width of the PNG thumbnails written by --save-views, pixels. [16, 8192].
+
+  bool Check(std::string* error) const;
+  PinholeCamera Camera() const { return PinholeCamera::FromHorizontalFov(width, height, horizontal_fov_deg); }
+  RenderOptions Render(double voxel_size_m) const { return RenderOptions{voxel_size_m, max_depth_m}; }
+};
+
+// Why a view was dropped.
+enum class ViewDrop { kKept = 0, kEmpty, kTooClose, kHomogeneous };
+const char* ViewDropName(ViewDrop d);  // "kept", "empty", "too_close", "homogeneous"
+
+struct ViewRecord {
+  int id = 0;        // Index in ViewSet::views.
+  int position = 0;  // Index in ViewSet::positions.
+  double yaw_deg = 0, pitch_deg = 0;
+  Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
+  ViewDrop drop = ViewDrop::kKept;
+  double hit_fraction = 0;     // Fraction of pixels that hit the scene.
+  double median_depth_m = 0;   // Over hit pixels; 0 when none.
+  double color_stddev = 0;     // See ViewsOptions::min_color_stddev.
+  bool kept() const { return drop == ViewDrop::kKept; }
+};
+
+struct ViewSet {
+  PinholeCamera camera;
+  double voxel_size_m = 0;
+  double view_z = 0;                         // Camera height, metres (world z).
+  std::vector<Eigen::Vector3d> positions;    // Viewpoints.
+  std::vector<ViewRecord> views;             // Position-major; per position the main ring, then the tilted ones.
+  std::vector<uint8_t> voxel_seen;           // Per VoxelGrid::Index of the map: 1 when a kept view hit it.
+  double seconds_render = 0;                 // Tracing and shading only.
+  size_t num_kept() const;
+};
+
+// Called for every rendered view (kept or not) in order; an error stops RenderViews and is returned.
+using ViewSink = std::function<Status(const ViewRecord&, const RenderedView&)>;
+
+// Viewpoints over the free space of `map` (see the file comment). `view_z` receives the camera height.
+// Empty when there is no free voxel with enough clearance.
+std::vector<Eigen::Vector3d> PlaceViewpoints(const VoxelMap& map, const ViewsOptions& options, double* view_z);
+
+// Places viewpoints, renders every view, applies the filters and records which map voxels the kept views
+// see. Errors when no viewpoint can be placed (the message says which option to relax).
+Result<ViewSet> RenderViews(const ViewRenderer& renderer, const VoxelMap& map, const ViewsOptions& options,
+                            const ViewSink& sink = {});
+
+// The filter statistics of one rendered view, and the verdict.
+void MeasureView(const RenderedView& view, const ViewsOptions& options, ViewRecord* record);
+
+// OUTDIR/views.json: intrinsics, every pose (world_from_camera, 4x4 row-major), kept / dropped and why,
+// the filter statistics, and thumbnail names (views/view_NNNNN.png) when thumbnails are written.
+std::string ViewsToJson(const ViewSet& views, const ViewsOptions& options, bool with_thumbnails);
+// "views/view_00042.png"
+std::string ThumbnailName(int view_id);
+
+// Occupied voxels with a free 6-neighbour (the surface the free space can see), and how many are seen.
+struct SurfaceCoverage {
+  size_t surface_voxels = 0;
+  size_t seen_voxels = 0;
+  double fraction() const { return surface_voxels ? double(seen_voxels) / double(surface_voxels) : 0.0; }
+};
+SurfaceCoverage ComputeSurfaceCoverage(const VoxelGrid& grid, const std::vector<uint8_t>& voxel_seen);
+
+}  // namespace semvox
