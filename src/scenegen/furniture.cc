@@ -54,6 +54,7 @@ class RoomFurnisher {
   ApartmentBuilder* b() { return b_; }
   std::vector<Support>& supports() { return supports_; }
 
+  bool HasWall(int s) const { return r_.shrink[s] > 0; }
   double SideLength(int s) const { return (s == kSouth || s == kNorth) ? r_.interior.w() : r_.interior.h(); }
   // Pose of an object of depth d standing with its back against side s at `along` (axis coordinate).
   Pose AgainstWall(int s, double along, double depth, double off = kGap) const {
@@ -100,9 +101,13 @@ class RoomFurnisher {
 
   // Finds a spot against one of `sides` for an object w x d x h (plus `front` metres kept free in front of
   // it, up to knee height), optionally at `mount_z` above the floor. False when nothing fits.
+  // An empty `sides` means every side with a wall (not the open side of an open-plan space).
   bool PlaceAgainstWall(double w, double d, double h, std::vector<int> sides, double front, Pose* out,
                         double mount_z = 0.0, int attempts = 40) {
-    if (sides.empty()) sides = {0, 1, 2, 3};
+    if (sides.empty())
+      for (int s = 0; s < 4; ++s)
+        if (HasWall(s)) sides.push_back(s);
+    if (sides.empty()) return false;
     for (int k = 0; k < attempts; ++k) {
       const int s = rng_->Pick(sides);
       const Rect& in = r_.interior;
@@ -426,6 +431,7 @@ void Counters(RoomFurnisher* f, bool full_kitchen) {
     bool ok = false;
     for (int k = 0; k < 12 && !ok; ++k) {
       const int s = r->UniformInt(0, 3);
+      if (!f->HasWall(s)) continue;
       const double avail = f->SideLength(s) - 2 * kGap;
       if (avail < 1.2) continue;
       L = std::min(avail, full_kitchen ? r->Uniform(1.8, 3.6) : r->Uniform(1.2, 2.0));
@@ -561,7 +567,7 @@ void LivingRoom(RoomFurnisher* f, bool studio, bool open_kitchen) {
     const int sofa_side = int(std::lround(sofa.yaw / (M_PI / 2))) % 4;
     const double tw = r->Uniform(1.2, 1.8), td = r->Uniform(0.38, 0.45), th = r->Uniform(0.42, 0.55);
     Pose tp;
-    if (f->PlaceAgainstWall(tw, td, th, {(sofa_side + 2) % 4}, 0.5, &tp) || f->PlaceAgainstWall(tw, td, th, {}, 0.5, &tp)) {
+    if ((f->HasWall((sofa_side + 2) % 4) && f->PlaceAgainstWall(tw, td, th, {(sofa_side + 2) % 4}, 0.5, &tp)) || f->PlaceAgainstWall(tw, td, th, {}, 0.5, &tp)) {
       const int cab = b->Begin(kCabinet, f->room(), tp);
       b->Box(-tw / 2, -td / 2, 0, tw / 2, td / 2, th, Vary(r->Pick(kWood), r), true);
       Finish(f);
