@@ -3,6 +3,7 @@
 //   - semvox alpha-expansion with semvox's own Boykov-Kolmogorov max-flow (crf/max_flow.h),
 //   - the same alpha-expansion driver on Boost's boykov_kolmogorov_max_flow (same moves, same graph
 //     topology fixed once and capacities reset per move: only the max-flow differs),
+//   - the same driver on OpenCV's GCGraph (rebuilt per move: it has no capacity reset),
 //   - ICM,
 // reporting energy reached, seconds, sweeps and peak memory side by side. Every solver runs in its own
 // forked child that builds the problem itself, so "peak MB" is getrusage(RUSAGE_SELF).ru_maxrss of a
@@ -10,13 +11,16 @@
 // reference figures), "CPU s" its user + system CPU time, which shared, loaded machines distort less.
 //
 // Problems: grid2d = 640 x 480, 4-connected; grid3d = 100 x 100 x 100, 6-connected. Unaries U(i, l) are
-// uniform in [0, 1) (std::mt19937_64 seeded with --seed); every edge has Potts weight --potts (0.5).
+// uniform in [0, 1) (std::mt19937_64 seeded with --seed); every edge has Potts weight --potts (0.05).
 //
-//   build-crf/bin/crf_bench [--problems grid2d,grid3d] [--solvers semvox,boost,icm] [--labels 21]
-//                           [--potts 0.5] [--seed 1] [--init argmin|zero] [--size3d 100]
+//   build-crf/bin/crf_bench [--problems grid2d,grid3d] [--solvers semvox,boost,opencv,icm] [--labels 21]
+//                           [--potts 0.05] [--seed 1] [--init argmin|zero] [--size3d 100]
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc/detail/gcgraph.hpp>
 
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
 #include <boost/graph/compressed_sparse_row_graph.hpp>
@@ -171,11 +175,59 @@ class BoostBkGraph {
   std::vector<long> distance_;
 };
 
+// OpenCV's GCGraph (BK max-flow, opencv2/imgproc/detail/gcgraph.hpp) behind the same interface. GCGraph
+// cannot reset capacities, so every Solve() rebuilds it (create + addEdges + addTermWeights), as an
+// OpenCV-based alpha-expansion does; edges with both capacities zero are left out.
+class OpenCvGcGraph {
+ public:
+  int AddNodes(int count) {
+    const int first = n_;
+    n_ += count;
+    terminal_.resize(n_, 0.0);
+    return first;
+  }
+  int AddEdge(int i, int j, double cap_ij, double cap_ji) {
+    pairs_.emplace_back(i, j);
+    caps_.emplace_back(cap_ij, cap_ji);
+    return static_cast<int>(pairs_.size()) - 1;
+  }
+  void ResetFlow() {}
+  void SetTerminalCapacity(int v, double source_minus_sink) { terminal_[v] = source_minus_sink; }
+  void SetEdgeCapacities(int e, double cap_ij, double cap_ji) { caps_[e] = {cap_ij, cap_ji}; }
+  double Solve() {
+    graph_ = cv::detail::GCGraph<double>();  // create() only reserves: start from an empty graph.
+    graph_.create(n_, 2 * static_cast<unsigned>(pairs_.size()));
+    for (int v = 0; v < n_; ++v) graph_.addVtx();
+    for (size_t e = 0; e < pairs_.size(); ++e) {
+      if (caps_[e].first > 0 || caps_[e].second > 0) {
+        graph_.addEdges(pairs_[e].first, pairs_[e].second, caps_[e].first, caps_[e].second);
+      }
+    }
+    for (int v = 0; v < n_; ++v) {
+      const double d = terminal_[v];
+      graph_.addTermWeights(v, d > 0 ? d : 0.0, d < 0 ? -d : 0.0);
+    }
+    return graph_.maxFlow();
+  }
+  bool InSinkSegment(int v) { return !graph_.inSourceSegment(v); }
+  size_t MemoryBytes() const {
+    return pairs_.capacity() * sizeof(pairs_[0]) + caps_.capacity() * sizeof(caps_[0]) +
+           terminal_.capacity() * sizeof(double);  // GCGraph's own arrays are private.
+  }
+
+ private:
+  int n_ = 0;
+  std::vector<std::pair<int, int>> pairs_;
+  std::vector<std::pair<double, double>> caps_;
+  std::vector<double> terminal_;
+  cv::detail::GCGraph<double> graph_;
+};
+
 struct Args {
   std::vector<std::string> problems{"grid2d", "grid3d"};
-  std::vector<std::string> solvers{"semvox", "boost", "icm"};
+  std::vector<std::string> solvers{"semvox", "boost", "opencv", "icm"};
   int labels = 21;
-  float potts = 0.5f;
+  float potts = 0.05f;
   uint64_t seed = 1;
   std::string init = "argmin";
   int size3d = 100;
@@ -241,6 +293,11 @@ RunResult RunSolver(const std::string& problem, const std::string& solver, const
     AlphaExpansionOptions options;
     options.initial_labelling = init;
     BoostBkGraph graph;
+    st = crf_internal::RunAlphaExpansion(energy, options, graph, &labels, &summary);
+  } else if (solver == "opencv") {
+    AlphaExpansionOptions options;
+    options.initial_labelling = init;
+    OpenCvGcGraph graph;
     st = crf_internal::RunAlphaExpansion(energy, options, graph, &labels, &summary);
   } else if (solver == "icm") {
     IcmOptions options;
@@ -312,7 +369,7 @@ int main(int argc, char** argv) {
   }
   std::printf("crf_bench: %d labels, Potts weight %.3g, unaries U[0,1) seed %llu, start %s\n", args.labels,
               args.potts, static_cast<unsigned long long>(args.seed), args.init.c_str());
-  std::printf("%-8s %-22s %18s %18s %6s %5s %8s %9s %8s %8s\n", "problem", "solver", "initial E", "final E",
+  std::printf("%-8s %-25s %18s %18s %6s %5s %8s %9s %8s %8s\n", "problem", "solver", "initial E", "final E",
               "sweeps", "cuts", "wall s", "maxflow s", "CPU s", "peak MB");
   for (const std::string& problem : args.problems) {
     double reference = 0;
@@ -320,17 +377,18 @@ int main(int argc, char** argv) {
     for (const std::string& solver : args.solvers) {
       const RunResult r = RunInChild(problem, solver, args);
       if (!r.ok) {
-        std::printf("%-8s %-22s failed\n", problem.c_str(), solver.c_str());
+        std::printf("%-8s %-25s failed\n", problem.c_str(), solver.c_str());
         continue;
       }
       const char* name = solver == "semvox"  ? "alpha-exp semvox BK"
                          : solver == "boost" ? "alpha-exp Boost BK"
+                         : solver == "opencv" ? "alpha-exp OpenCV GCGraph"
                          : solver == "icm"   ? "ICM"
                                              : "(problem only)";
-      std::printf("%-8s %-22s %18.6f %18.6f %6d %5ld %8.3f %9.3f %8.3f %8.1f", problem.c_str(), name,
+      std::printf("%-8s %-25s %18.6f %18.6f %6d %5ld %8.3f %9.3f %8.3f %8.1f", problem.c_str(), name,
                   r.initial_energy, r.energy, r.sweeps, r.expansions, r.seconds, r.max_flow_seconds,
                   r.cpu_seconds - r.build_cpu_seconds, r.peak_kb / 1024.0);
-      if (solver == "semvox" || solver == "boost") {
+      if (solver == "semvox" || solver == "boost" || solver == "opencv") {
         if (!have_reference) {
           reference = r.energy;
           have_reference = true;
