@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <sstream>
 
 #include "core/log.h"
@@ -147,9 +148,9 @@ std::vector<Eigen::Vector3d> PlaceViewpoints(const VoxelMap& map, const ViewsOpt
       obstacle[size_t(y) * nx + x] = grid.state(grid.Index(x, y, iz)) != VoxelState::kFree;
   const std::vector<double> d2 = SquaredDistanceToObstacles(obstacle, nx, ny);
   const double res = grid.resolution();
-  // A voxel centre is clear when the nearest non-free voxel's centre is more than clearance + half a
-  // voxel away (so the voxel's nearest face is at least the clearance away).
-  const double min_cells = options.wall_clearance_m / res + 0.5;
+  // A voxel centre is clear when every non-free voxel's centre is at least clearance + half a voxel
+  // diagonal away, so that no point of a non-free voxel is nearer than the clearance.
+  const double min_cells = options.wall_clearance_m / res + 0.5 * std::numbers::sqrt2;
 
   // One viewpoint per grid_spacing_m square (squares aligned to world multiples of the spacing): the
   // clear voxel nearest the square's centre.
