@@ -49,6 +49,8 @@ int main(int argc, char** argv) {
     else if (a == "--clutter_max_area_m2") fp.clutter_max_area_m2 = std::atof(next().c_str());
     else if (a == "--clutter_max_length_m") fp.clutter_max_length_m = std::atof(next().c_str());
     else if (a == "--saddle_ratio_larger") seg.saddle_ratio_larger = std::atof(next().c_str());
+    else if (a == "--wall_gap_max_m") seg.wall_gap_max_m = std::atof(next().c_str());
+    else if (a == "--wall_gap_ratio") seg.wall_gap_ratio = std::atof(next().c_str());
     else if (a == "--no_fill_clutter") seg.fill_clutter = false;
     else {
       std::fprintf(stderr, "rooms_bench: unknown argument %s\n", a.c_str());

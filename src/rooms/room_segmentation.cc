@@ -131,7 +131,7 @@ void Flood(const cv::Mat1f& dist, KeepApart keep_apart, Workspace* ws) {
       for (int j = i; j > 0 && basin[roots[j]].peak > basin[roots[j - 1]].peak; --j) std::swap(roots[j], roots[j - 1]);
     const int main = roots[0];
     for (int i = 1; i < n; ++i)
-      if (!keep_apart(basin[main], basin[roots[i]], d)) {
+      if (!keep_apart(basin[main], basin[roots[i]], d, p)) {
         uf.parent[roots[i]] = main;
         basin[main].area += basin[roots[i]].area;
       }
@@ -143,16 +143,66 @@ void Flood(const cv::Mat1f& dist, KeepApart keep_apart, Workspace* ws) {
 }
 
 // Distance-transform watershed with doorway-aware merging (see the header).
+// Wall-gap lines: the end of a thin wall (at most max_wall_px thick, running on for at least
+// min_wall_px behind its tip) whose straight continuation meets another obstacle within max_gap_px
+// across free space marks that gap as a doorway (door cells), as a drawn floor plan closes a room.
+cv::Mat1f WallGapLines(double res, double max_gap_m, const Workspace& ws0) {
+  const Workspace* ws = &ws0;
+  const int W = ws->space.cols, H = ws->space.rows;
+  const int max_gap_px = int(max_gap_m / res), max_wall_px = std::max(1, int(0.3 / res)),
+            min_wall_px = std::max(2, int(0.3 / res));
+  auto obstacle = [&](int x, int y) { return x < 0 || y < 0 || x >= W || y >= H || !ws->space(y, x); };
+  cv::Mat1f lines(H, W, 0.f);  // Half the length of the line through the cell, pixels; 0 = none.
+  constexpr int kDirX[4] = {1, -1, 0, 0}, kDirY[4] = {0, 0, 1, -1};
+  for (int y = 1; y + 1 < H; ++y)
+    for (int x = 1; x + 1 < W; ++x) {
+      if (!obstacle(x, y)) continue;
+      for (int k = 0; k < 4; ++k) {
+        const int dx = kDirX[k], dy = kDirY[k], px = -dy, py = dx;  // Direction and its perpendicular.
+        if (obstacle(x + dx, y + dy)) continue;                     // Not a tip in this direction.
+        bool wall_behind = true;
+        for (int i = 1; i <= min_wall_px && wall_behind; ++i) wall_behind = obstacle(x - i * dx, y - i * dy);
+        if (!wall_behind) continue;
+        // Thin: free space on both sides of the tip within max_wall_px.
+        auto side_free = [&](int sign) {
+          for (int j = 1; j <= max_wall_px; ++j)
+            if (!obstacle(x + sign * j * px, y + sign * j * py)) return true;
+          return false;
+        };
+        if (!side_free(1) || !side_free(-1)) continue;
+        int m = 1;
+        while (m <= max_gap_px && !obstacle(x + m * dx, y + m * dy)) ++m;
+        if (m > max_gap_px) continue;
+        for (int i = 1; i < m; ++i) {
+          float& v = lines(y + i * dy, x + i * dx);
+          v = v > 0 ? std::min(v, 0.5f * m) : 0.5f * m;
+        }
+      }
+    }
+  return lines;
+}
+
 void SegmentByDistance(const RoomSegmentationOptions& o, double res, Workspace* ws) {
   cv::Mat1b inner = ws->space & ~ws->door;
   cv::Mat1f dist;
   cv::distanceTransform(inner, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  // Wall-gap lines are passes of height zero (the flood reaches them last); whether the rooms on their
+  // two sides stay apart depends on the line's half length against the smaller room's inscribed radius.
+  cv::Mat1f lines(dist.rows, dist.cols, 0.f);
+  if (o.wall_gap_max_m > 0) {
+    lines = WallGapLines(res, o.wall_gap_max_m, *ws);
+    dist.setTo(0.f, lines > 0);
+  }
   const float door_half_px = float(0.5 * o.door_max_width_m / res);
   const float min_radius_px = float(o.min_room_radius_m / res);
   const float ratio = float(o.saddle_ratio), ratio_larger = float(o.saddle_ratio_larger);
+  const float line_ratio = float(o.wall_gap_ratio);
+  const float* line_half = lines.ptr<float>(0);
   Flood(dist,
-        [&](const Basin& a, const Basin& b, float d) {  // a.peak >= b.peak; d: the pass.
-          return b.peak >= min_radius_px && d <= door_half_px && (d < ratio * b.peak || d < ratio_larger * a.peak);
+        [&](const Basin& a, const Basin& b, float d, int p) {  // a.peak >= b.peak; d: the pass at cell p.
+          if (b.peak < min_radius_px) return false;
+          if (line_half[p] > 0) return line_half[p] < line_ratio * b.peak;
+          return d <= door_half_px && (d < ratio * b.peak || d < ratio_larger * a.peak);
         },
         ws);
 }
@@ -167,7 +217,7 @@ void SegmentByErosion(const RoomSegmentationOptions& o, double res, Workspace* w
   cv::Mat1f dist;
   cv::distanceTransform(inner, dist, cv::DIST_C, 3);
   const int64_t min_seed_px = int64_t(std::ceil(o.min_seed_area_m2 / (res * res)));
-  Flood(dist, [&](const Basin& a, const Basin& b, float) { return std::min(a.area, b.area) >= min_seed_px; }, ws);
+  Flood(dist, [&](const Basin& a, const Basin& b, float, int) { return std::min(a.area, b.area) >= min_seed_px; }, ws);
 }
 
 // Merges rooms smaller than min_px into the neighbour with the longest shared border; rooms without a

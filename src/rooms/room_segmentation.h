@@ -45,6 +45,11 @@ struct RoomSegmentationOptions {
                                       // fraction of the smaller room's inscribed radius... (0, 1].
   double saddle_ratio_larger = 0.5;   // distance: ... or than this fraction of the larger room's (a door
                                       // from a narrow corridor into a big room). (0, 1].
+  double wall_gap_max_m = 2.5;        // distance: the gap from the end of a thin wall straight on to the next
+                                      // obstacle is a candidate room border when at most this long, metres;
+                                      // 0 = off. >= 0.
+  double wall_gap_ratio = 1.0;        // distance: a wall-gap line separates rooms when its half length is
+                                      // below this fraction of the smaller room's inscribed radius. > 0.
   double min_room_radius_m = 0.6;     // distance: basins with a smaller inscribed radius never stay apart
                                       // (alcoves, niches, gaps between furniture), metres. >= 0.
   double min_room_area_m2 = 1.0;      // Smaller rooms merge into a neighbour, m². >= 0.
