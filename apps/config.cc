@@ -80,6 +80,8 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, saddle_ratio, 0.01, 1, "distance: a pass separates rooms below this fraction of the smaller room's inscribed radius"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, saddle_ratio_larger, 0.01, 1, "distance: ... or of the larger room's inscribed radius"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, min_room_radius_m, 0, 10, "distance: rooms need at least this inscribed radius, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, wall_gap_max_m, 0, 20, "distance: gaps from a thin wall's end straight on to an obstacle up to this long are candidate room borders, metres (0 = off)"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, wall_gap_ratio, 0.01, 100, "distance: such a border separates rooms below this ratio of its half length to the smaller room's inscribed radius"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, min_room_area_m2, 0, 1000, "smaller rooms merge into a neighbour, m2"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, min_seed_area_m2, 0.01, 1000, "morphological: pieces split by the erosion stay rooms when both cover this, m2"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, max_speck_distance_m, 0, 10, "unreached free cells join the nearest room within this, metres"));
