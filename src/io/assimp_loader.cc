@@ -57,15 +57,30 @@ Material ConvertMaterial(const aiScene* ai, const aiMaterial* am, const std::str
   return m;
 }
 
+constexpr unsigned kAssimpFlags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType |
+                                 aiProcess_ValidateDataStructure | aiProcess_FindInvalidData;
+
+Result<Scene> ConvertAssimpScene(const aiScene* ai, const Assimp::Importer& importer, const std::string& path);
+
 }  // namespace
 
 Result<Scene> LoadAssimpScene(const std::string& path) {
   Assimp::Importer importer;
   // Points and lines are dropped; only triangles matter for surfaces.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* ai = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType |
-                aiProcess_ValidateDataStructure | aiProcess_FindInvalidData);
+  return ConvertAssimpScene(importer.ReadFile(path, kAssimpFlags), importer, path);
+}
+
+Result<Scene> LoadAssimpSceneFromMemory(const std::string& bytes, const std::string& extension, const std::string& name) {
+  Assimp::Importer importer;
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  return ConvertAssimpScene(importer.ReadFileFromMemory(bytes.data(), bytes.size(), kAssimpFlags, extension.c_str()),
+                            importer, name);
+}
+
+namespace {
+
+Result<Scene> ConvertAssimpScene(const aiScene* ai, const Assimp::Importer& importer, const std::string& path) {
   if (!ai || !ai->mRootNode)
     return Status::InvalidInput(FileError(path, std::string("cannot read mesh: ") + importer.GetErrorString(),
                                           "check that the file is complete and of the type its extension says"));
@@ -111,4 +126,5 @@ Result<Scene> LoadAssimpScene(const std::string& path) {
   return scene;
 }
 
+}  // namespace
 }  // namespace semvox

@@ -34,6 +34,8 @@ std::string SupportedExtensions();
 // Format-specific loaders (no axis or unit conversion). Used by LoadScene and by the fuzz targets.
 Result<Scene> LoadPlyScene(const std::string& path);
 Result<Scene> LoadAssimpScene(const std::string& path);
+// `extension` tells assimp the format ("obj", "stl", ...); `name` appears in messages.
+Result<Scene> LoadAssimpSceneFromMemory(const std::string& bytes, const std::string& extension, const std::string& name);
 Result<Scene> LoadPcdScene(const std::string& path);
 Result<Scene> LoadTextCloud(const std::string& path);
 Result<Scene> ParseTextCloud(const std::string& bytes, const std::string& name);

@@ -156,7 +156,7 @@ bool VoxelizeOptions::Check(std::string* error) const {
   return true;
 }
 
-Status PlanGrid(const Aabb& box, const VoxelizeOptions& options, VoxelGrid* grid) {
+Status PlanVoxelGrid(const Aabb& box, const VoxelizeOptions& options, VoxelGrid* grid) {
   const double res = options.voxel_size_m;
   std::array<int64_t, 3> lo, hi;
   for (int i = 0; i < 3; ++i) {
@@ -280,9 +280,11 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options) {
   std::string error;
   if (!options.Check(&error)) return Status::InvalidInput(error);
   VoxelMap map;
-  const Aabb box = scene.Bounds();
+  Aabb box = scene.Bounds();
   if (!box.valid()) return Status::InvalidInput(FileError(scene.source_path, "scene has no geometry", ""));
-  SEMVOX_RETURN_IF_ERROR(PlanGrid(box, options, &map.grid));
+  // Room for the scanner above the lowest surface even when the scan is flat (a single floor plane).
+  box.max.z() = std::max<float>(box.max.z(), box.min.z() + float(options.scan_height_m + options.scan_clearance_m));
+  SEMVOX_RETURN_IF_ERROR(PlanVoxelGrid(box, options, &map.grid));
   VoxelGrid& grid = map.grid;
   const double res = options.voxel_size_m;
 
@@ -362,7 +364,9 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options) {
             const int x = c[0] + dx, y = c[1] + dy, zz = c[2] + dz;
             if (grid.Contains(x, y, zz) && grid.state(grid.Index(x, y, zz)) == VoxelState::kOccupied) return;
           }
-      if (DistanceToOccupied(grid, p, -Eigen::Vector3d::UnitZ(), z - box.min.z() + 2 * res) < 0) return;
+      // A surface below (the floor, or furniture on it); without a detected floor this cannot be required.
+      if (map.floor_found && DistanceToOccupied(grid, p, -Eigen::Vector3d::UnitZ(), z - box.min.z() + 2 * res) < 0)
+        return;
       if (require_enclosure) {
         int hits = 0;
         for (int d = 0; d < options.enclosure_directions; ++d) {

@@ -50,7 +50,7 @@ struct VoxelMap {
 
 // Returns the grid bounds (keys) covering `box` with one voxel of margin, or an error when it exceeds
 // options.max_voxels or the OctoMap key range.
-Status PlanGrid(const Aabb& box, const VoxelizeOptions& options, VoxelGrid* grid);
+Status PlanVoxelGrid(const Aabb& box, const VoxelizeOptions& options, VoxelGrid* grid);
 
 Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options);
 

@@ -34,7 +34,8 @@ size_t CountEntries(const std::string& dir) {
 TEST(Cli, RunOnTheDemoSceneWritesEveryOutput) {
   testing::ScratchDir dir("cli_run");
   const std::string out = dir.File("out");
-  const Outcome o = RunSemvox("run " + std::string(SEMVOX_SOURCE_DIR) + "/scenes/demo_apartment.ply -o " + out, dir);
+  const Outcome o = RunSemvox("run " + std::string(SEMVOX_SOURCE_DIR) + "/scenes/demo_apartment.ply -o " + out +
+                                  " --config " + std::string(SEMVOX_SOURCE_DIR) + "/tests/data/fast.yaml", dir);
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   for (const char* f : {"occupancy.pgm", "occupancy.yaml", "map.bt", "summary.json", "config_used.yaml"})
     EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
