@@ -29,6 +29,7 @@ struct GenerateArgs {
   int seed = 0;
   bool cloud = false;  // Also simulate a scanner and write cloud.ply.
   bool clean = false;  // No scan artefacts in mesh.ply.
+  std::vector<std::string> settings;  // "apartment.NAME=V", "artefacts.NAME=V", "scan.NAME=V" overrides.
 };
 
 // `semvox generate`: writes a labelled apartment (mesh.ply, ...) into OUTDIR.

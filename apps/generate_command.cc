@@ -1,5 +1,9 @@
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <functional>
+#include <map>
 
 #include "apps/commands.h"
 #include "core/file_util.h"
@@ -11,8 +15,108 @@
 #include "scenegen/scan_simulator.h"
 
 namespace semvox {
+namespace {
+
+struct GeneratorConfig {
+  ApartmentOptions apartment;
+  ScanArtefactOptions artefacts;
+  ScanSimulationOptions scan;
+};
+
+// "section.name=value" overrides. Unknown names and unparsable values are errors naming the setting.
+Status ApplySettings(const std::vector<std::string>& settings, GeneratorConfig* c) {
+  std::map<std::string, std::function<bool(const std::string&)>> fields;
+  auto num = [&](const std::string& key, double* field) {
+    fields[key] = [field](const std::string& v) {
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (end == v.c_str() || *end != '\0' || !std::isfinite(x)) return false;
+      *field = x;
+      return true;
+    };
+  };
+  auto integer = [&](const std::string& key, int* field) {
+    fields[key] = [field](const std::string& v) {
+      char* end = nullptr;
+      const long x = std::strtol(v.c_str(), &end, 10);
+      if (end == v.c_str() || *end != '\0') return false;
+      *field = int(x);
+      return true;
+    };
+  };
+  auto flag = [&](const std::string& key, bool* field) {
+    fields[key] = [field](const std::string& v) {
+      if (v == "true" || v == "1") *field = true;
+      else if (v == "false" || v == "0") *field = false;
+      else return false;
+      return true;
+    };
+  };
+  ApartmentOptions& a = c->apartment;
+  integer("apartment.min_rooms", &a.min_rooms);
+  integer("apartment.max_rooms", &a.max_rooms);
+  num("apartment.floor_z_m", &a.floor_z_m);
+  num("apartment.min_ceiling_m", &a.min_ceiling_m);
+  num("apartment.max_ceiling_m", &a.max_ceiling_m);
+  num("apartment.min_wall_m", &a.min_wall_m);
+  num("apartment.max_wall_m", &a.max_wall_m);
+  num("apartment.surface_cell_m", &a.surface_cell_m);
+  flag("apartment.furniture", &a.furniture);
+  flag("apartment.props", &a.props);
+  ScanArtefactOptions& r = c->artefacts;
+  flag("artefacts.remove_hidden", &r.remove_hidden);
+  num("artefacts.hidden_margin_m", &r.hidden_margin_m);
+  num("artefacts.holes_per_m2", &r.holes_per_m2);
+  num("artefacts.min_hole_radius_m", &r.min_hole_radius_m);
+  num("artefacts.max_hole_radius_m", &r.max_hole_radius_m);
+  num("artefacts.unscanned_ceiling_fraction", &r.unscanned_ceiling_fraction);
+  num("artefacts.face_dropout", &r.face_dropout);
+  num("artefacts.vertex_noise_m", &r.vertex_noise_m);
+  num("artefacts.roughness_m", &r.roughness_m);
+  num("artefacts.roughness_wavelength_m", &r.roughness_wavelength_m);
+  ScanSimulationOptions& s = c->scan;
+  num("scan.station_spacing_m", &s.station_spacing_m);
+  num("scan.station_clearance_m", &s.station_clearance_m);
+  num("scan.scanner_height_m", &s.scanner_height_m);
+  integer("scan.azimuth_steps", &s.azimuth_steps);
+  integer("scan.elevation_steps", &s.elevation_steps);
+  num("scan.min_range_m", &s.min_range_m);
+  num("scan.max_range_m", &s.max_range_m);
+  num("scan.noise_sigma_m", &s.noise_sigma_m);
+  num("scan.noise_quadratic", &s.noise_quadratic);
+  num("scan.fuse_voxel_m", &s.fuse_voxel_m);
+  for (const std::string& kv : settings) {
+    const size_t eq = kv.find('=');
+    const std::string key = kv.substr(0, eq);
+    const auto it = fields.find(key);
+    if (eq == std::string::npos || it == fields.end()) {
+      std::string known;
+      for (const auto& [name, fn] : fields) known += (known.empty() ? "" : ", ") + name;
+      return Status::InvalidInput("--set " + kv + ": unknown setting (hint: one of " + known + ")");
+    }
+    if (!it->second(kv.substr(eq + 1)))
+      return Status::InvalidInput("--set " + kv + ": cannot parse the value of " + key);
+  }
+  std::string error;
+  if (!c->apartment.Check(&error)) return Status::InvalidInput("apartment options: " + error);
+  if (!c->artefacts.Check(&error)) return Status::InvalidInput("artefacts options: " + error);
+  if (!c->scan.Check(&error)) return Status::InvalidInput("scan options: " + error);
+  return Status::Ok();
+}
+
+}  // namespace
 
 Status RunGenerate(const GenerateArgs& args) {
+  if (args.seed < 0) return Status::InvalidInput("--seed = " + std::to_string(args.seed) + ". Violated constraint: seed >= 0");
+  GeneratorConfig config;
+  config.apartment.seed = config.artefacts.seed = config.scan.seed = uint64_t(args.seed);
+  if (args.clean) {
+    config.artefacts.remove_hidden = false;
+    config.artefacts.holes_per_m2 = 0;
+    config.artefacts.unscanned_ceiling_fraction = 0;
+    config.artefacts.vertex_noise_m = 0;
+  }
+  SEMVOX_RETURN_IF_ERROR(ApplySettings(args.settings, &config));
   SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(args.outdir));
   if (args.demo) {
     const Mesh mesh = BuildDemoApartment();
@@ -21,25 +125,12 @@ Status RunGenerate(const GenerateArgs& args) {
     SEMVOX_INFO("wrote " << path << " (" << mesh.faces.size() << " triangles)");
     return Status::Ok();
   }
-  if (args.seed < 0) return Status::InvalidInput("--seed = " + std::to_string(args.seed) + ". Violated constraint: seed >= 0");
   const auto t0 = std::chrono::steady_clock::now();
-  ApartmentOptions options;
-  options.seed = uint64_t(args.seed);
-  Result<Apartment> apt = GenerateApartment(options);
+  Result<Apartment> apt = GenerateApartment(config.apartment);
   if (!apt.ok()) return apt.status();
-  ScanArtefactOptions artefacts;
-  artefacts.seed = options.seed;
-  if (args.clean) {
-    artefacts.remove_hidden = false;
-    artefacts.holes_per_m2 = 0;
-    artefacts.unscanned_ceiling_fraction = 0;
-    artefacts.vertex_noise_m = 0;
-  }
-  SEMVOX_RETURN_IF_ERROR(WriteApartment(args.outdir, *apt, options, artefacts, GroundTruthOptions(), args.cloud));
+  SEMVOX_RETURN_IF_ERROR(WriteApartment(args.outdir, *apt, config.apartment, config.artefacts, GroundTruthOptions(), args.cloud));
   if (args.cloud) {
-    ScanSimulationOptions scan;
-    scan.seed = options.seed;
-    Result<PointCloud> cloud = SimulateScan(*apt, scan);
+    Result<PointCloud> cloud = SimulateScan(*apt, config.scan);
     if (!cloud.ok()) return cloud.status();
     const std::string path = (std::filesystem::path(args.outdir) / "cloud.ply").string();
     SEMVOX_RETURN_IF_ERROR(WriteCloudPly(path, *cloud, "semvox simulated scan seed " + std::to_string(args.seed) +

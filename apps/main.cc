@@ -58,6 +58,8 @@ int main(int argc, char** argv) {
   gen_cmd->add_option("--seed", gen.seed, "random seed");
   gen_cmd->add_flag("--cloud", gen.cloud, "also simulate a scanner walk and write cloud.ply");
   gen_cmd->add_flag("--clean", gen.clean, "no scan artefacts in mesh.ply");
+  gen_cmd->add_option("--set", gen.settings, "override an option: apartment.NAME=V, artefacts.NAME=V or scan.NAME=V (repeatable; "
+                      "see docs/generator.md)");
 
   semvox::EvalArgs eval;
   CLI::App* eval_cmd = app.add_subcommand("eval", "score `semvox run` outputs against a generated apartment's ground truth");
