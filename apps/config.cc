@@ -76,7 +76,7 @@ const std::vector<Field>& Fields() {
       method.set_str = [](PipelineConfig& c, const std::string& v) { ParseRoomSegmentationMethod(v, &c.rooms.method); };
       f.push_back(method);
     }
-    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, door_max_width_m, 0.1, 20, "widest opening that separates rooms, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, max_opening_width_m, 0.1, 20, "widest opening that separates rooms, metres"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, saddle_ratio, 0.01, 1, "distance: a pass separates rooms below this fraction of the smaller room's inscribed radius"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, saddle_ratio_larger, 0.01, 1, "distance: ... or of the larger room's inscribed radius"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", rooms, min_room_radius_m, 0, 10, "distance: rooms need at least this inscribed radius, metres"));
