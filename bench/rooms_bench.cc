@@ -4,7 +4,7 @@
 //   rooms_bench [--data DIR] [--method NAME]... [--KEY VALUE]...
 //
 // DIR defaults to <source>/../shared/data/ipa_room_seg/test_maps. KEY is a RoomSegmentationOptions or
-// FloorPlanOptions field (saddle_ratio, min_room_radius_m, door_max_width_m, min_room_area_m2,
+// FloorPlanOptions field (saddle_ratio, min_room_radius_m, max_opening_width_m, min_room_area_m2,
 // min_seed_area_m2, clutter_max_area_m2, max_speck_distance_m). Timing covers floor plan + segmentation.
 #include <chrono>
 #include <ctime>
@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
     else if (a == "--dump") dump_dir = next();
     else if (a == "--saddle_ratio") seg.saddle_ratio = std::atof(next().c_str());
     else if (a == "--min_room_radius_m") seg.min_room_radius_m = std::atof(next().c_str());
-    else if (a == "--door_max_width_m") seg.door_max_width_m = std::atof(next().c_str());
+    else if (a == "--max_opening_width_m") seg.max_opening_width_m = std::atof(next().c_str());
     else if (a == "--min_room_area_m2") seg.min_room_area_m2 = std::atof(next().c_str());
     else if (a == "--min_seed_area_m2") seg.min_seed_area_m2 = std::atof(next().c_str());
     else if (a == "--max_speck_distance_m") seg.max_speck_distance_m = std::atof(next().c_str());

@@ -193,7 +193,7 @@ void SegmentByDistance(const RoomSegmentationOptions& o, double res, Workspace* 
     lines = WallGapLines(res, o.wall_gap_max_m, *ws);
     dist.setTo(0.f, lines > 0);
   }
-  const float door_half_px = float(0.5 * o.door_max_width_m / res);
+  const float door_half_px = float(0.5 * o.max_opening_width_m / res);
   const float min_radius_px = float(o.min_room_radius_m / res);
   const float ratio = float(o.saddle_ratio), ratio_larger = float(o.saddle_ratio_larger);
   const float line_ratio = float(o.wall_gap_ratio);
@@ -311,7 +311,8 @@ bool ParseRoomSegmentationMethod(const std::string& name, RoomSegmentationMethod
 }
 
 bool RoomSegmentationOptions::Check(std::string* error) const {
-  if (!(door_max_width_m > 0)) return *error = Violated("door_max_width_m", door_max_width_m, "door_max_width_m > 0"), false;
+  if (!(max_opening_width_m > 0))
+    return *error = Violated("max_opening_width_m", max_opening_width_m, "max_opening_width_m > 0"), false;
   if (!(saddle_ratio > 0 && saddle_ratio <= 1))
     return *error = Violated("saddle_ratio", saddle_ratio, "0 < saddle_ratio <= 1"), false;
   if (!(saddle_ratio_larger > 0 && saddle_ratio_larger <= 1))

@@ -7,7 +7,7 @@
 //    door and clutter cells; door openings count as obstacles so that D drops to zero across them) is
 //    flooded from its maxima downwards (a watershed by union-find, cf. Najman & Couprie 2006). Where two
 //    basins meet at a pass of height d (the half-width of the opening), they stay separate rooms only when
-//    the pass looks like a doorway: d <= door_max_width_m / 2, d < saddle_ratio * (the smaller basin's
+//    the pass looks like a doorway: d <= max_opening_width_m / 2, d < saddle_ratio * (the smaller basin's
 //    peak), and both basins are room-sized (peak >= min_room_radius_m). Otherwise they merge.
 //  - kMorphological ("morphological"), after Bormann et al., ICRA 2016, Sec. III-A: the room space is
 //    eroded step by step (a 3x3 square); where the erosion splits a part in two and both pieces still
@@ -39,7 +39,7 @@ bool ParseRoomSegmentationMethod(const std::string& name, RoomSegmentationMethod
 
 struct RoomSegmentationOptions {
   RoomSegmentationMethod method = RoomSegmentationMethod::kDistanceWatershed;
-  double door_max_width_m = 2.0;      // Widest opening that can separate two rooms (doors and the wide
+  double max_opening_width_m = 2.0;   // Widest opening that can separate two rooms (doors and the wide
                                       // openings floor plans still draw a room border across), metres. > 0.
   double saddle_ratio = 0.7;          // distance: a pass separates rooms only when narrower than this
                                       // fraction of the smaller room's inscribed radius... (0, 1].
