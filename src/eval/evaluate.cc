@@ -436,7 +436,25 @@ Result<EvalReport> Evaluate(const std::string& pred_dir, const std::string& gt_d
     const FloorGrid pg = GridOf(*occ);
     if (pred_rooms->width != pg.width || pred_rooms->height != pg.height)
       return Status::InvalidInput(FileError(path("rooms.png"), "size differs from occupancy.pgm", "both must share the occupancy grid"));
-    rep.rooms = ScoreRoomSegmentation(*gt_rooms, gt.grid, *pred_rooms, pg);
+    // Segmentation is scored on spaces separated by walls: open-plan partners (a kitchen open to the living
+    // room) are one ground-truth segment here; (e) still scores their types apart.
+    std::map<int, int> space;
+    for (const auto& r : gt.rooms) space[r.id] = r.id;
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (const auto& r : gt.rooms)
+        for (int o : r.open_to)
+          if (space.count(o) && space[o] != space[r.id]) {
+            const int m = std::min(space[o], space[r.id]);
+            changed |= space[o] != m || space[r.id] != m;
+            space[o] = space[r.id] = m;
+          }
+    }
+    ImageU16 gt_spaces = *gt_rooms;
+    for (uint16_t& v : gt_spaces.data)
+      if (v && space.count(v)) v = uint16_t(space[v]);
+    rep.rooms = ScoreRoomSegmentation(gt_spaces, gt.grid, *pred_rooms, pg);
+    rep.rooms_typed = ScoreRoomSegmentation(*gt_rooms, gt.grid, *pred_rooms, pg);
     if (exists("rooms.geojson")) {
       Result<std::map<int, int>> pred_types = ReadRoomTypes(path("rooms.geojson"));
       if (!pred_types.ok()) return pred_types.status();
@@ -448,7 +466,7 @@ Result<EvalReport> Evaluate(const std::string& pred_dir, const std::string& gt_d
     }
   } else {
     const Score none = Absent(occ ? "rooms.png not found" : "rooms.png or occupancy.yaml not found");
-    rep.rooms.recall = rep.rooms.precision = none;
+    rep.rooms.recall = rep.rooms.precision = rep.rooms_typed.recall = rep.rooms_typed.precision = none;
     rep.room_types.global = rep.room_types.average = none;
   }
   return rep;
@@ -484,6 +502,8 @@ std::string EvalReport::ToJson() const {
                  {"average", ScoreJson(voxels.nyu4_average)}, {"global", ScoreJson(voxels.nyu4_global)}};
   j["d_room_segmentation"] = {{"recall", ScoreJson(rooms.recall)}, {"precision", ScoreJson(rooms.precision)},
                               {"gt_rooms", rooms.gt_rooms}, {"predicted_rooms", rooms.predicted_rooms}};
+  j["d_room_segmentation_typed_areas"] = {{"recall", ScoreJson(rooms_typed.recall)}, {"precision", ScoreJson(rooms_typed.precision)},
+                                          {"gt_rooms", rooms_typed.gt_rooms}, {"predicted_rooms", rooms_typed.predicted_rooms}};
   nlohmann::ordered_json per_type = nlohmann::ordered_json::object();
   for (const auto& [t, v] : room_types.recall_per_type) per_type[RoomTypes()[size_t(std::clamp(t, 0, kNumRoomTypes - 1))].name] = std::round(v * 1e6) / 1e6;
   j["e_room_types"] = {{"global", ScoreJson(room_types.global)}, {"average", ScoreJson(room_types.average)}, {"recall_per_type", per_type}};
@@ -514,6 +534,8 @@ std::string EvalReport::Table() const {
   row("(c) NYU-4 global", voxels.nyu4_global);
   row("(d) room segmentation recall", rooms.recall);
   row("(d) room segmentation precision", rooms.precision);
+  row("(d) recall vs typed areas (open plan split)", rooms_typed.recall);
+  row("(d) precision vs typed areas", rooms_typed.precision);
   row("(e) room-type accuracy (global)", room_types.global);
   row("(e) room-type accuracy (type mean)", room_types.average);
   return os.str();

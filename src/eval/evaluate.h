@@ -73,7 +73,8 @@ struct EvalReport {
   double voxel_size_m = 0;
   TopViewScores top_view;
   VoxelScores voxels;
-  RoomSegmentationScores rooms;
+  RoomSegmentationScores rooms;        // Against spaces separated by walls (open-plan partners merged).
+  RoomSegmentationScores rooms_typed;  // Against typed areas (an open-plan kitchen apart from the living room).
   RoomTypeScores room_types;
   std::string ToJson() const;
   std::string Table() const;

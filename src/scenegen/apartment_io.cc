@@ -266,7 +266,9 @@ Result<GroundTruth> ReadGroundTruth(const std::string& dir) {
     gt.rooms_image = (fs::path(dir) / g.at("image").get<std::string>()).string();
     gt.topview_image = (fs::path(dir) / j.at("topview_gt").at("image").get<std::string>()).string();
     gt.gt_mesh = (fs::path(dir) / j.at("files").at("gt_mesh").get<std::string>()).string();
-    for (const auto& r : j.at("rooms")) gt.rooms.push_back({r.at("id").get<int>(), r.at("type_id").get<int>(), r.at("type").get<std::string>()});
+    for (const auto& r : j.at("rooms"))
+      gt.rooms.push_back({r.at("id").get<int>(), r.at("type_id").get<int>(), r.at("type").get<std::string>(),
+                          r.value("open_to", std::vector<int>())});
   } catch (const nlohmann::json::exception& e) {
     return Status::InvalidInput(FileError(path, std::string("malformed ground truth: ") + e.what(),
                                           "regenerate it with `semvox generate --seed N`"));

@@ -71,6 +71,7 @@ struct GroundTruth {
   struct Room {
     int id = 0, type_id = 0;
     std::string type;
+    std::vector<int> open_to;  // Open-plan partners (no wall in between).
   };
   std::vector<Room> rooms;
   FloorGrid grid;
