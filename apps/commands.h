@@ -84,4 +84,15 @@ struct ViewsStageSummary {
 Status RunViewsStage(const Scene& scene, const VoxelMap& map, const ViewsOptions& options, const std::string& outdir,
                      bool save_views, ViewsStageSummary* summary);
 
+// ---- batch (apps/batch_command.cc) ----
+struct BatchArgs {
+  std::string manifest;     // One scan per line: INPUT, or NAME INPUT; '#' starts a comment.
+  std::string root;         // ROOT/<name>/ per scan, ROOT/index.{csv,json}, ROOT/logs/.
+  std::string config_path;  // Passed to every `semvox run`.
+  int jobs = 1;             // Scans run at once.
+};
+
+// `semvox batch`: resumable, keeps going past failures; kInternal (exit 1) when any scan failed.
+Status RunBatch(const BatchArgs& args);
+
 }  // namespace semvox

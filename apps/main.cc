@@ -94,6 +94,13 @@ int main(int argc, char** argv) {
   rooms_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
   bool dump = false;
   std::string check_path;
+  semvox::BatchArgs batch;
+  CLI::App* batch_cmd = app.add_subcommand("batch", "run many scans listed in MANIFEST into ROOT (resumable)");
+  batch_cmd->add_option("manifest", batch.manifest, "one scan per line: INPUT or NAME INPUT")->required();
+  batch_cmd->add_option("-o,--output", batch.root, "root output directory")->required();
+  batch_cmd->add_option("-j,--jobs", batch.jobs, "scans run at once")->check(CLI::PositiveNumber);
+  batch_cmd->add_option("--config", batch.config_path, "YAML configuration for every scan");
+
   CLI::App* config_cmd = app.add_subcommand("config", "print or check the configuration");
   config_cmd->add_flag("--dump", dump, "print every option with its default, units and range");
   config_cmd->add_option("--check", check_path, "validate a YAML configuration file");
@@ -110,6 +117,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*run_cmd) return Report(semvox::RunPipeline(run));
+    if (*batch_cmd) return Report(semvox::RunBatch(batch));
     if (*gen_cmd) return Report(semvox::RunGenerate(gen));
     if (*eval_cmd) return Report(semvox::RunEval(eval));
     if (*rooms_cmd) return Report(semvox::RunRooms(rooms_args));
