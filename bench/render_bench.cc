@@ -3,8 +3,8 @@
 //
 //   render_bench [--faces N ...] [--rounds R] [--threads T] [--views-per-position K]
 //
-// The mesh is the bundled demo apartment with its longest edges bisected until it has at least N faces
-// (default: about 10 k and about 1 M). Poses: the automatic viewpoints of the demo apartment (render/views.h)
+// The mesh is the bundled demo apartment with its longest edges bisected until it has about N faces
+// (the nearer of the two refinement levels around N; default about 10 k and about 1 M). Poses: the automatic viewpoints of the demo apartment (render/views.h)
 // with K yaws each. Bare and full alternate pose by pose (so both see the same load on a shared machine);
 // each round sums both over all poses; the best round of each is reported, plus the median.
 #include <tbb/blocked_range.h>
@@ -32,14 +32,15 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // Splits every face's longest edge at its midpoint (shared edges split once, so the mesh stays
-// watertight) until the mesh has at least `target` faces. Colours and attributes are dropped except
-// vertex colours, which are interpolated.
+// watertight) until the mesh has about `target` faces (the nearer of the two levels around it). Colours
+// and attributes are dropped except vertex colours, which are interpolated.
 Mesh Subdivide(Mesh mesh, size_t target) {
   mesh.uvs.clear();
   mesh.face_material.clear();
   mesh.materials.clear();
   mesh.face_attributes.clear();
   while (mesh.faces.size() < target) {
+    const Mesh before = mesh;  // Kept to return whichever of the last two sizes is nearer the target.
     std::map<std::pair<int, int>, int> midpoint;
     std::vector<Eigen::Vector3i> faces;
     faces.reserve(mesh.faces.size() * 2);
@@ -100,6 +101,7 @@ Mesh Subdivide(Mesh mesh, size_t target) {
       }
     }
     mesh.faces.swap(faces);
+    if (mesh.faces.size() >= target && mesh.faces.size() - target > target - before.faces.size()) return before;
   }
   return mesh;
 }
@@ -112,14 +114,14 @@ struct Pose {
 size_t BareRender(const Raycaster& rc, const PinholeCamera& camera, const Eigen::Isometry3d& world_from_camera,
                   float max_depth) {
   const RTCScene scene = rc.impl().scene;
-  const int w = camera.width, h = camera.height, tile = 8;
+  const int w = camera.width, h = camera.height, tile_w = 16, tile_h = 4;
   const Eigen::Matrix3f rot = world_from_camera.linear().cast<float>();
   const Eigen::Vector3f org = world_from_camera.translation().cast<float>();
   // Camera-frame ray coordinates per column and row (z = 1).
   std::vector<float> xs(camera.width), ys(camera.height);
   for (int x = 0; x < camera.width; ++x) xs[x] = float((x + 0.5 - camera.cx) / camera.fx);
   for (int y = 0; y < camera.height; ++y) ys[y] = float((y + 0.5 - camera.cy) / camera.fy);
-  const int tiles_x = (w + tile - 1) / tile, tiles_y = (h + tile - 1) / tile;
+  const int tiles_x = (w + tile_w - 1) / tile_w, tiles_y = (h + tile_h - 1) / tile_h;
   std::atomic<size_t> hits{0};
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& range) {
     RTCIntersectContext context;
@@ -129,9 +131,9 @@ size_t BareRender(const Raycaster& rc, const PinholeCamera& camera, const Eigen:
     alignas(64) int valid[16];
     size_t local = 0;
     for (int t = range.begin(); t != range.end(); ++t) {
-      const int tx0 = (t % tiles_x) * tile, ty0 = (t / tiles_x) * tile;
-      for (int sub = 0; sub < 4; ++sub) {
-        const int sx = tx0 + (sub % 2) * 4, sy = ty0 + (sub / 2) * 4;
+      const int tx0 = (t % tiles_x) * tile_w, ty0 = (t / tiles_x) * tile_h;
+      for (int sub = 0; sub < tile_w / 4; ++sub) {
+        const int sx = tx0 + sub * 4, sy = ty0;
         if (sx >= w || sy >= h) continue;
         for (int lane = 0; lane < 16; ++lane) {
           const int px = std::min(sx + lane % 4, w - 1), py = std::min(sy + lane / 4, h - 1);

@@ -14,8 +14,10 @@
 namespace semvox {
 namespace {
 
-constexpr int kTileSize = 8;    // Pixels per tile side: four 4x4 packets of 16 rays.
+constexpr int kTileWidth = 16;  // Pixels per tile: four 4x4 packets of 16 rays side by side, so that each
+constexpr int kTileHeight = 4;  // tile row is one 64-byte line of depth and of primitive ids.
 constexpr int kPacketSide = 4;  // 16 = 4 x 4 rays per rtcIntersect16 packet.
+constexpr int kPrefetchTiles = 2;  // How far ahead the image lines of coming tiles are fetched.
 // Keys follow the voxeliser's half-open cells (mapping/voxelizer.cc, VoxelizeMeshSurface): a surface up to
 // this fraction of a voxel below a voxel boundary belongs to the voxel above it. Walls on round
 // coordinates are stored as floats a hair below them (1.9f = 1.89999998), and without the same tolerance
@@ -44,7 +46,8 @@ struct FaceShade {
   float plane = 0;      // The face's coordinate along `axis`.
   uint8_t axis = 3;     // 0, 1, 2: all three vertices share that coordinate exactly; 3: none.
   uint8_t rgb[9] = {};  // Corner colours (r, g, b) x 3.
-  uint8_t pad[2] = {};
+  uint8_t uniform = 0;  // 1 when the three corner colours are equal (no interpolation needed).
+  uint8_t pad = 0;
 };
 static_assert(sizeof(FaceShade) == 16);
 
@@ -58,6 +61,7 @@ struct ShadeContext {
   const Rgb8* point_colors;          // kCloud.
   const Mesh* mesh;                  // kTexture (Mesh::ColorAt).
   const FaceShade* face_shade;       // Meshes: one record per face.
+  bool interpolate_corners;          // kVertex: corner colours differ on some faces.
   double inv_voxel_size;             // 1 / resolution, as OctoMap's coordToKey multiplies by it.
   double ox, oy, oz;                 // Camera centre, world frame (for cloud hits).
 };
@@ -68,7 +72,7 @@ struct ShadedPacket {
   alignas(64) float nx[16], ny[16], nz[16];
   alignas(64) int32_t primitive[16];
   alignas(64) int32_t kx[16], ky[16], kz[16];  // Key indices; all 0 for pixels without a (valid) key.
-  alignas(64) int32_t r[16], g[16], b[16];
+  alignas(64) uint8_t rgb[48];
   int hits = 0;
 };
 
@@ -114,13 +118,26 @@ void ShadePacket(const ShadeContext& c, const RTCRayHit16& p, const int* valid, 
     py[l] = c.oy + t * p.ray.dir_y[l];
     pz[l] = c.oz + t * p.ray.dir_z[l];
   }
-  alignas(64) FaceShade face[n];
+  alignas(64) float plane[n];
+  alignas(64) int32_t axis[n];
+  alignas(64) uint8_t rgb[3 * n];
   if (!c.is_cloud) {
-    for (int l = 0; l < n; ++l) face[l] = c.face_shade[prim[l]];  // Gather: one 16-byte record per pixel.
+    for (int l = 0; l < n; ++l) {  // Gather one 16-byte record per pixel; colours of uniform faces directly.
+      const FaceShade& f = c.face_shade[prim[l]];
+      plane[l] = f.plane;
+      axis[l] = f.axis;
+      if (f.uniform || !c.interpolate_corners) {
+        rgb[3 * l] = f.rgb[0], rgb[3 * l + 1] = f.rgb[1], rgb[3 * l + 2] = f.rgb[2];
+      } else {  // = lround() of Mesh::ColorAt's interpolation for values >= 0.
+        const float u = p.hit.u[l], v = p.hit.v[l], w = 1.0f - u - v;
+        for (int k = 0; k < 3; ++k)
+          rgb[3 * l + k] = uint8_t(std::min(std::max(w * f.rgb[k] + u * f.rgb[3 + k] + v * f.rgb[6 + k] + 0.5f, 0.0f), 255.0f));
+      }
+    }
     for (int l = 0; l < n; ++l) {
-      px[l] = face[l].axis == 0 ? double(face[l].plane) : px[l];
-      py[l] = face[l].axis == 1 ? double(face[l].plane) : py[l];
-      pz[l] = face[l].axis == 2 ? double(face[l].plane) : pz[l];
+      px[l] = axis[l] == 0 ? double(plane[l]) : px[l];
+      py[l] = axis[l] == 1 ? double(plane[l]) : py[l];
+      pz[l] = axis[l] == 2 ? double(plane[l]) : pz[l];
     }
   }
   // Keys. Scaled coordinates are clamped to +-2^30 first, so that the conversion is defined; anything
@@ -157,19 +174,12 @@ void ShadePacket(const ShadeContext& c, const RTCRayHit16& p, const int* valid, 
   }
   if (c.color_source == ColorSource::kVertex || c.color_source == ColorSource::kMaterial ||
       c.color_source == ColorSource::kGrey) {
-    int32_t* channel[3] = {out->r, out->g, out->b};
-    for (int k = 0; k < 3; ++k) {
-      int32_t* ch = channel[k];
-      for (int l = 0; l < n; ++l) {  // = lround() of Mesh::ColorAt's interpolation for values >= 0.
-        const float u = p.hit.u[l], v = p.hit.v[l], w = 1.0f - u - v;
-        const float mixed = w * face[l].rgb[k] + u * face[l].rgb[3 + k] + v * face[l].rgb[6 + k] + 0.5f;
-        ch[l] = hit[l] ? int32_t(std::min(std::max(mixed, 0.0f), 255.0f)) : 0;
-      }
-    }
+    for (int l = 0; l < n; ++l)
+      for (int k = 0; k < 3; ++k) out->rgb[3 * l + k] = hit[l] ? rgb[3 * l + k] : 0;
   } else {
     for (int l = 0; l < n; ++l) {
       const Rgb8 col = hit[l] ? ScalarColor(c, prim[l], p.hit.u[l], p.hit.v[l]) : Rgb8{0, 0, 0};
-      out->r[l] = col.r, out->g[l] = col.g, out->b[l] = col.b;
+      out->rgb[3 * l] = col.r, out->rgb[3 * l + 1] = col.g, out->rgb[3 * l + 2] = col.b;
     }
   }
 }
@@ -220,6 +230,7 @@ Result<ViewRenderer> ViewRenderer::Create(const Scene& scene, const RaycasterOpt
         else if (source == ColorSource::kMaterial) c = m.materials[m.face_material[i]].diffuse;
         r.rgb[3 * corner] = c.r, r.rgb[3 * corner + 1] = c.g, r.rgb[3 * corner + 2] = c.b;
       }
+      r.uniform = std::equal(r.rgb, r.rgb + 3, r.rgb + 3) && std::equal(r.rgb, r.rgb + 3, r.rgb + 6);
     }
   }
   return ViewRenderer(&scene, std::move(rc).value(), std::move(shade));
@@ -249,6 +260,7 @@ Status ViewRenderer::Render(const PinholeCamera& camera, const Eigen::Isometry3d
   ctx.point_colors = scene_->cloud.colors.data();
   ctx.mesh = &scene_->mesh;
   ctx.face_shade = shade_->faces.data();
+  ctx.interpolate_corners = ctx.color_source == ColorSource::kVertex;
   ctx.inv_voxel_size = 1.0 / options.voxel_size_m;
   ctx.ox = world_from_camera.translation().x();
   ctx.oy = world_from_camera.translation().y();
@@ -260,7 +272,7 @@ Status ViewRenderer::Render(const PinholeCamera& camera, const Eigen::Isometry3d
   for (int x = 0; x < camera.width; ++x) xs[x] = float((x + 0.5 - camera.cx) / camera.fx);
   for (int y = 0; y < camera.height; ++y) ys[y] = float((y + 0.5 - camera.cy) / camera.fy);
   const float tfar = float(options.max_depth_m);
-  const int tiles_x = (w + kTileSize - 1) / kTileSize, tiles_y = (h + kTileSize - 1) / kTileSize;
+  const int tiles_x = (w + kTileWidth - 1) / kTileWidth, tiles_y = (h + kTileHeight - 1) / kTileHeight;
   std::atomic<size_t> hit_pixels{0};
 
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& range) {
@@ -278,9 +290,24 @@ Status ViewRenderer::Render(const PinholeCamera& camera, const Eigen::Isometry3d
     uint8_t* __restrict rgb = view->rgb.data.data();
     size_t local_hits = 0;
     for (int tile = range.begin(); tile != range.end(); ++tile) {
-      const int tx0 = (tile % tiles_x) * kTileSize, ty0 = (tile / tiles_x) * kTileSize;
-      for (int sub = 0; sub < 4; ++sub) {
-        const int sx = tx0 + (sub % 2) * kPacketSide, sy = ty0 + (sub / 2) * kPacketSide;
+      const int tx0 = (tile % tiles_x) * kTileWidth, ty0 = (tile / tiles_x) * kTileHeight;
+      // The image rows of a coming tile are cold (9 MB of buffers per view): fetch their cache lines
+      // while this tile is traced, so that its stores do not wait for memory.
+      if (tile + kPrefetchTiles < range.end()) {
+        const int next = tile + kPrefetchTiles;
+        const int nx0 = (next % tiles_x) * kTileWidth, ny0 = (next / tiles_x) * kTileHeight;
+        for (int row = ny0; row < std::min(ny0 + kTileHeight, h); ++row) {
+          const size_t i = size_t(row) * w + nx0;
+          __builtin_prefetch(depth + i, 1);
+          __builtin_prefetch(primitive + i, 1);
+          for (int k = 0; k < 3 * kTileWidth; k += 16) __builtin_prefetch(normal + 3 * i + k, 1);
+          __builtin_prefetch(key + i, 1);
+          __builtin_prefetch(key + i + 10, 1);
+          __builtin_prefetch(rgb + 3 * i, 1);
+        }
+      }
+      for (int sub = 0; sub < kTileWidth / kPacketSide; ++sub) {
+        const int sx = tx0 + sub * kPacketSide, sy = ty0;
         if (sx >= w || sy >= h) continue;
         for (int lane = 0; lane < 16; ++lane) {
           const int px = std::min(sx + lane % kPacketSide, w - 1), py = std::min(sy + lane / kPacketSide, h - 1);
@@ -319,10 +346,8 @@ Status ViewRenderer::Render(const PinholeCamera& camera, const Eigen::Isometry3d
             normal[3 * i + 1] = shaded.ny[l];
             normal[3 * i + 2] = shaded.nz[l];
             key[i] = VoxelKey{uint16_t(shaded.kx[l]), uint16_t(shaded.ky[l]), uint16_t(shaded.kz[l])};
-            rgb[3 * i] = uint8_t(shaded.r[l]);
-            rgb[3 * i + 1] = uint8_t(shaded.g[l]);
-            rgb[3 * i + 2] = uint8_t(shaded.b[l]);
           }
+          std::memcpy(rgb + 3 * idx, &shaded.rgb[3 * l0], 3 * cols);
         }
       }
     }
