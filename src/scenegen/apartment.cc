@@ -63,14 +63,12 @@ void ApartmentBuilder::AddSurface(const Eigen::Vector3d& o, const Eigen::Vector3
   // Even division, so no sliver cells at the edges.
   const int nu = std::max(1, int(std::ceil(lu / cell_ - 1e-9))), nv = std::max(1, int(std::ceil(lv / cell_ - 1e-9)));
   const double du = lu / nu, dv = lv / nv;
-  const size_t before = mesh_.mesh().faces.size();
   for (int j = 0; j < nv; ++j)
     for (int i = 0; i < nu; ++i) {
       const Eigen::Vector3d p = o + (i * du) * u + (j * dv) * v;
       mesh_.AddQuad(p, p + du * u, p + du * u + dv * v, p + dv * v, color, tags);
     }
   apartment_->face_part.resize(mesh_.mesh().faces.size(), part);
-  (void)before;
 }
 
 int ApartmentBuilder::AddSolid(const OrientedBox& box, int label, int instance, bool structural) {
@@ -177,7 +175,6 @@ Rgb8 Vary(Rgb8 c, Rng* rng, int amount) {
 // Walls, floors, ceilings, door leaves and window panes.
 void BuildStructure(const FloorPlan& plan, double floor_z, Rng* rng, ApartmentBuilder* b) {
   using namespace nyu40;
-  Apartment* apt = b->apartment();
   const double H = plan.ceiling;
   const std::vector<Rgb8> wall_colors = {{236, 232, 222}, {245, 245, 240}, {222, 226, 230}, {238, 228, 210}, {215, 225, 215}};
   const std::vector<Rgb8> floor_colors = {{164, 118, 76}, {190, 150, 105}, {140, 100, 70}, {200, 200, 195}, {120, 110, 100}};
@@ -199,7 +196,7 @@ void BuildStructure(const FloorPlan& plan, double floor_z, Rng* rng, ApartmentBu
       const double shrink = r.shrink[s];
       if (shrink <= 0) continue;  // Open side.
       const Eigen::Vector3d axis = SideAxis(s), n = Inward(s);
-      // The room-facing surface must face -n... i.e. into the room: normal = +n. Pick (u, v) with u x v = n.
+      // The room-facing surface faces into the room (normal +n).
       const double in_lo = AxisLo(in, s), in_hi = AxisHi(in, s);
       for (const SideSegment& seg : r.sides[s]) {
         if (seg.open) continue;
@@ -302,7 +299,6 @@ void BuildStructure(const FloorPlan& plan, double floor_z, Rng* rng, ApartmentBu
     b->Box(-thick / 2, -width / 2 + 0.005, 0.01, thick / 2, width / 2 - 0.005, d.height - 0.01, leaf);
     b->End();
   }
-  (void)apt;
 }
 
 }  // namespace
