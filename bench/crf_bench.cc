@@ -1,6 +1,7 @@
 // CRF solver benchmark (not a test): Potts grid CRFs with 21 labels and random-but-seeded unaries,
 // minimised by
-//   - semvox alpha-expansion with semvox's own Boykov-Kolmogorov max-flow (crf/max_flow.h),
+//   - semvox alpha-expansion with semvox's own Boykov-Kolmogorov max-flow (crf/max_flow.h), with and
+//     ("semvox-noprune") without fixing the nodes whose move is decided before the cut,
 //   - the same alpha-expansion driver on Boost's boykov_kolmogorov_max_flow (same moves, same graph
 //     topology fixed once and capacities reset per move: only the max-flow differs),
 //   - the same driver on OpenCV's GCGraph (rebuilt per move: it has no capacity reset),
@@ -304,9 +305,10 @@ RunResult RunSolver(const std::string& problem, const std::string& solver, const
   std::vector<CrfLabel> labels;
   CrfSolverSummary summary;
   Status st;
-  if (solver == "semvox") {
+  if (solver == "semvox" || solver == "semvox-noprune") {
     AlphaExpansionOptions options;
     options.initial_labelling = init;
+    options.prune_decided_nodes = solver == "semvox";
     st = MinimizeWithAlphaExpansion(energy, options, &labels, &summary);
   } else if (solver == "boost") {
     AlphaExpansionOptions options;
@@ -403,6 +405,7 @@ int main(int argc, char** argv) {
         continue;
       }
       const char* name = solver == "semvox"  ? "alpha-exp semvox BK"
+                         : solver == "semvox-noprune" ? "alpha-exp semvox, no prune"
                          : solver == "boost" ? "alpha-exp Boost BK"
                          : solver == "opencv" ? "alpha-exp OpenCV GCGraph"
                          : solver == "icm"   ? "ICM"
@@ -410,7 +413,7 @@ int main(int argc, char** argv) {
       std::printf("%-8s %-25s %18.6f %18.6f %6d %5ld %8.3f %9.3f %8.3f %8.1f", problem.c_str(), name,
                   r.initial_energy, r.energy, r.sweeps, r.expansions, r.seconds, r.max_flow_seconds,
                   r.cpu_seconds - r.build_cpu_seconds, r.peak_kb / 1024.0);
-      if (solver == "semvox" || solver == "boost" || solver == "opencv") {
+      if (solver != "icm" && solver != "none") {
         if (!have_reference) {
           reference = r.energy;
           have_reference = true;

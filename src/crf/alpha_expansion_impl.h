@@ -23,6 +23,12 @@
 
 namespace semvox::crf_internal {
 
+// Per-node state of one expansion move when pruning.
+inline constexpr uint8_t kMoveFree = 0;     // Decided by the cut.
+inline constexpr uint8_t kMoveKeep = 1;     // Keeps its label in every optimal move.
+inline constexpr uint8_t kMoveSwitch = 2;   // Takes alpha in every optimal move.
+inline constexpr uint8_t kMoveAtAlpha = 3;  // Already labelled alpha.
+
 [[noreturn]] inline void ExpansionInvariantFailed(const std::string& what) {
   std::fprintf(stderr, "semvox: alpha-expansion invariant violated: %s\n", what.c_str());
   std::abort();
@@ -112,6 +118,40 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
   std::vector<int> clique_stamp(C, -1);
   std::vector<double> scratch(L, 0.0), old_weight(L, 0.0), new_weight(L, 0.0);
   std::vector<RobustPnMove> plans(C);
+  // Pruning (options.prune_decided_nodes): per node a bound on how much its pairwise and clique terms
+  // can change when it switches, whatever the other nodes do: sum over its edges of w * (max V - min V)
+  // of the edge's model, plus per clique max_l theta_l * w_i (Robust P^n changes by at most that when
+  // one node of weight w_i changes label). A node whose unary difference exceeds it is decided.
+  std::vector<double> decide_bound;
+  std::vector<uint8_t> decided;
+  if (options.prune_decided_nodes) {
+    decide_bound.assign(N, 0.0);
+    decided.assign(N, kMoveFree);
+    std::vector<double> model_range(energy.num_models(), 1.0);  // Potts: 1.
+    for (int m = 1; m < energy.num_models(); ++m) {
+      float lo = energy.ModelCost(m, 0, 0), hi = lo;
+      for (int a = 0; a < L; ++a)
+        for (int b = 0; b < L; ++b) {
+          lo = std::min(lo, energy.ModelCost(m, a, b));
+          hi = std::max(hi, energy.ModelCost(m, a, b));
+        }
+      model_range[m] = static_cast<double>(hi) - lo;
+    }
+    for (const CrfEnergy::Edge& e : edges) {
+      const double r = static_cast<double>(e.weight) * model_range[e.model];
+      decide_bound[e.i] += r;
+      decide_bound[e.j] += r;
+    }
+    for (int c = 0; c < C; ++c) {
+      double max_slope = 0;
+      for (int l = 0; l < L; ++l) max_slope = std::max(max_slope, energy.clique_slope(c, l));
+      const auto nodes = energy.clique_nodes(c);
+      const auto weights = energy.clique_weights(c);
+      for (size_t k = 0; k < nodes.size(); ++k) decide_bound[nodes[k]] += max_slope * weights[k];
+    }
+    // Keep the test strict under rounding of the sums above.
+    for (double& b : decide_bound) b = b * (1 + 1e-12) + 1e-300;
+  }
 
   double current = energy.Evaluate(labels);
   summary->initial_energy = current;
@@ -137,14 +177,30 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
         ++summary->num_skipped_expansions;
         continue;
       }
-      // ---- Build the move energy: constant + sum_v delta_v t_v + edge terms.
+      // ---- Build the move energy: constant + sum_v delta_v t_v + sum_arcs cap (1 - t_tail) t_head.
       graph.ResetFlow();
       double constant = current_unary_sum;
       int64_t truncated = 0;
+      int64_t pruned = 0;
+      const bool prune = options.prune_decided_nodes;
       {
+        // Unary part, and (pruning) the nodes whose move their unary decides: switching costs more than
+        // all their pairwise and clique terms could pay back (keep in every optimal move), or gains more
+        // than they could charge (switch in every optimal move). Strict dominance, exact.
         const float* plane = energy.unary_plane(alpha).data();
         for (int i = 0; i < N; ++i) {
-          delta[i] = labels[i] == alpha ? 0.0 : static_cast<double>(plane[i]) - current_unary[i];
+          if (labels[i] == alpha) {
+            delta[i] = 0.0;
+            if (prune) decided[i] = kMoveAtAlpha;
+            continue;
+          }
+          const double d = static_cast<double>(plane[i]) - current_unary[i];
+          delta[i] = d;
+          if (prune) {  // Branch-free: random data mispredicts.
+            const uint8_t f = static_cast<uint8_t>((d > decide_bound[i]) * kMoveKeep + (d < -decide_bound[i]) * kMoveSwitch);
+            decided[i] = f;
+            pruned += f != kMoveFree;
+          }
         }
       }
       std::fill(delta.begin() + N, delta.end(), 0.0);
@@ -153,6 +209,20 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
         double pairwise_constant = 0;
         double* const d = delta.data();
         const CrfLabel* const x = labels.data();
+        // An arc tail -> head of capacity cap costs cap (1 - t_tail) t_head; arcs touching a decided node
+        // fold into the other end's unary or the constant and leave the graph.
+        // Branch-free (the states are random): keep -> free: cap t_head; keep -> switch: cap;
+        // free -> switch: cap (1 - t_tail); free -> free: the arc; anything else: 0.
+        auto arc = [&](int e, int tail, int head, double cap, uint8_t ft, uint8_t fh) {
+          const bool tail_free = ft == kMoveFree, head_free = fh == kMoveFree;
+          const bool tail_keep = ft == kMoveKeep, head_switch = fh == kMoveSwitch;
+          graph.SetEdgeCapacities(e, tail_free && head_free ? cap : 0.0, 0);
+          d[head] += (tail_keep && head_free) ? cap : 0.0;
+          d[tail] -= (tail_free && head_switch) ? cap : 0.0;
+          pairwise_constant += ((tail_keep || tail_free) && head_switch) ? cap : 0.0;
+        };
+        const uint8_t* const dec = prune ? decided.data() : nullptr;
+        auto state = [&](int v) { return dec ? dec[v] : kMoveFree; };
         for (int e = 0; e < num_pairwise; ++e) {
           const CrfEnergy::Edge& edge = edges[e];
           const CrfLabel li = x[edge.i], lj = x[edge.j];
@@ -160,7 +230,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
           if (edge.model == CrfEnergy::kPottsModel) {
             const double w = edge.weight;
             if (fi || fj) {
-              // One end at alpha: [other end keeps its label] w, a unary term; both at alpha: 0.
+              // One end at alpha: [other end keeps its label] w = w - w t_other, a unary term; both: 0.
               if (!(fi && fj)) {
                 pairwise_constant += w;
                 d[fi ? edge.j : edge.i] -= w;
@@ -172,23 +242,23 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
               pairwise_constant += A;
               d[edge.i] += w - A;
               d[edge.j] -= w;
-              graph.SetEdgeCapacities(e, 2 * w - A, 0);
+              arc(e, edge.i, edge.j, 2 * w - A, state(edge.i), state(edge.j));
             }
             continue;
           }
           const double D = energy.EdgeCost(edge, alpha, alpha);
-          if (fi && fj) {
-            pairwise_constant += D;
-            graph.SetEdgeCapacities(e, 0, 0);
-          } else if (fj) {
-            const double A = energy.EdgeCost(edge, li, alpha);
-            pairwise_constant += A;
-            d[edge.i] += D - A;
-            graph.SetEdgeCapacities(e, 0, 0);
-          } else if (fi) {
-            const double A = energy.EdgeCost(edge, alpha, lj);
-            pairwise_constant += A;
-            d[edge.j] += D - A;
+          if (fi || fj) {
+            if (fi && fj) {
+              pairwise_constant += D;
+            } else if (fj) {
+              const double A = energy.EdgeCost(edge, li, alpha);
+              pairwise_constant += A;
+              d[edge.i] += D - A;
+            } else {
+              const double A = energy.EdgeCost(edge, alpha, lj);
+              pairwise_constant += A;
+              d[edge.j] += D - A;
+            }
             graph.SetEdgeCapacities(e, 0, 0);
           } else {
             const double A = energy.EdgeCost(edge, li, lj);
@@ -202,34 +272,40 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
             pairwise_constant += A;
             d[edge.i] += Cc - A;
             d[edge.j] += D - Cc;
-            graph.SetEdgeCapacities(e, cap, 0);
+            arc(e, edge.i, edge.j, cap, state(edge.i), state(edge.j));
+          }
+        }
+        for (int c = 0; c < C; ++c) {
+          const RobustPnMove plan = PlanRobustPnMove(energy, c, labels, alpha, &scratch);
+          plans[c] = plan;
+          const int z = N + 2 * c, y = z + 1;
+          pairwise_constant += plan.constant;
+          if (plan.alpha_slope > 0) {  // Q [z = 0] = Q - Q z.
+            pairwise_constant += plan.alpha_aux_cost;
+            d[z] -= plan.alpha_aux_cost;
+          }
+          if (plan.dominant >= 0) d[y] += plan.dominant_aux_cost;
+          const auto nodes = energy.clique_nodes(c);
+          const auto weights = energy.clique_weights(c);
+          int e = clique_first_edge[c];
+          for (size_t k = 0; k < nodes.size(); ++k, e += 2) {
+            const int v = nodes[k];
+            const CrfLabel xk = x[v];
+            arc(e, v, z, xk != alpha ? plan.alpha_slope * weights[k] : 0.0, state(v), kMoveFree);
+            arc(e + 1, y, v, xk == plan.dominant ? plan.dominant_slope * weights[k] : 0.0, kMoveFree, state(v));
           }
         }
         constant += pairwise_constant;
       }
-      for (int c = 0; c < C; ++c) {
-        const RobustPnMove plan = PlanRobustPnMove(energy, c, labels, alpha, &scratch);
-        plans[c] = plan;
-        const int z = N + 2 * c, y = z + 1;
-        constant += plan.constant;
-        if (plan.alpha_slope > 0) {  // Q [z = 0] = Q - Q z.
-          constant += plan.alpha_aux_cost;
-          delta[z] -= plan.alpha_aux_cost;
-        }
-        if (plan.dominant >= 0) delta[y] += plan.dominant_aux_cost;
-        const auto nodes = energy.clique_nodes(c);
-        const auto weights = energy.clique_weights(c);
-        int e = clique_first_edge[c];
-        for (size_t k = 0; k < nodes.size(); ++k, e += 2) {
-          const CrfLabel x = labels[nodes[k]];
-          graph.SetEdgeCapacities(e, x != alpha ? plan.alpha_slope * weights[k] : 0.0, 0);
-          graph.SetEdgeCapacities(e + 1, x == plan.dominant ? plan.dominant_slope * weights[k] : 0.0, 0);
-        }
-      }
+      summary->num_pruned_nodes += pruned;
       {
         double negative = 0;
         for (int v = 0; v < N + 2 * C; ++v) {
-          const double d = delta[v];
+          double d = delta[v];
+          if (prune && v < N && decided[v] != kMoveFree) {
+            if (decided[v] == kMoveSwitch) constant += d;
+            d = 0;
+          }
           graph.SetTerminalCapacity(v, d);
           negative += d < 0 ? d : 0.0;
         }
@@ -244,7 +320,9 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
 
       changed_nodes.clear();
       for (int i = 0; i < N; ++i) {
-        if (labels[i] != alpha && graph.InSinkSegment(i)) {
+        const bool switches = prune ? decided[i] == kMoveSwitch || (decided[i] == kMoveFree && graph.InSinkSegment(i))
+                                    : labels[i] != alpha && graph.InSinkSegment(i);
+        if (switches) {
           changed[i] = 1;
           changed_nodes.push_back(i);
         }

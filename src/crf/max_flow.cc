@@ -40,7 +40,7 @@ void MaxFlowGraph<Capacity>::UnbuildArcs() {
   edge_cap_.resize(m);
   edge_rev_cap_.resize(m);
   for (int e = 0; e < m; ++e) {
-    const Arc& fwd = arcs_[edge_arc_[e]];
+    const Arc& fwd = arcs_[edge_arc_[e].forward];
     const Arc& rev = arcs_[fwd.sister];
     edge_tail_[e] = rev.head;
     edge_head_[e] = fwd.head;
@@ -76,7 +76,7 @@ int MaxFlowGraph<Capacity>::AddEdge(int i, int j, Capacity cap_ij, Capacity cap_
     edge_cap_.push_back(cap_ij);
     edge_rev_cap_.push_back(cap_ji);
   }
-  edge_arc_.push_back(-1);
+  edge_arc_.push_back(EdgeArcs{-1, -1});
   return static_cast<int>(edge_arc_.size()) - 1;
 }
 
@@ -150,7 +150,7 @@ void MaxFlowGraph<Capacity>::BuildArcs() {
     const bool stored = static_cast<size_t>(e) < edge_cap_.size();
     arcs_[fa] = Arc{j, ra, stored ? edge_cap_[e] : Capacity(0)};
     arcs_[ra] = Arc{i, fa, stored ? edge_rev_cap_[e] : Capacity(0)};
-    edge_arc_[e] = fa;
+    edge_arc_[e] = EdgeArcs{fa, ra};
   }
   // The edge list is now held by the arcs; free it.
   std::vector<int>().swap(edge_tail_);
@@ -163,7 +163,7 @@ void MaxFlowGraph<Capacity>::BuildArcs() {
 template <typename Capacity>
 size_t MaxFlowGraph<Capacity>::MemoryBytes() const {
   return nodes_.capacity() * sizeof(Node) + first_arc_.capacity() * sizeof(int) +
-         arcs_.capacity() * sizeof(Arc) + edge_arc_.capacity() * sizeof(int) +
+         arcs_.capacity() * sizeof(Arc) + edge_arc_.capacity() * sizeof(EdgeArcs) +
          (edge_tail_.capacity() + edge_head_.capacity()) * sizeof(int) +
          (edge_cap_.capacity() + edge_rev_cap_.capacity()) * sizeof(Capacity) +
          orphans_.capacity() * sizeof(int);

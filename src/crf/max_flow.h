@@ -78,9 +78,9 @@ class MaxFlowGraph {
   void SetEdgeCapacities(int edge, Capacity cap_ij, Capacity cap_ji) {
     if (!(cap_ij >= 0 && cap_ji >= 0)) NegativeCapacity();
     if (!arcs_valid_) return SetEdgeCapacitiesBeforeBuild(edge, cap_ij, cap_ji);
-    Arc& fwd = arcs_[edge_arc_[edge]];
-    fwd.residual = cap_ij;
-    arcs_[fwd.sister].residual = cap_ji;
+    const EdgeArcs ea = edge_arc_[edge];
+    arcs_[ea.forward].residual = cap_ij;
+    arcs_[ea.reverse].residual = cap_ji;
   }
 
   // Computes the maximum flow from source to sink (= the minimum cut value, including the terminal
@@ -134,7 +134,10 @@ class MaxFlowGraph {
   // Edges as added: arcs are built from these.
   std::vector<int> edge_tail_, edge_head_;
   std::vector<Capacity> edge_cap_, edge_rev_cap_;
-  std::vector<int> edge_arc_;  // Edge id -> its forward arc (after BuildArcs).
+  struct EdgeArcs {
+    int forward, reverse;
+  };
+  std::vector<EdgeArcs> edge_arc_;  // Edge id -> its two arcs (after BuildArcs; no dependent load).
   bool arcs_valid_ = false;
   bool solved_ = false;
 

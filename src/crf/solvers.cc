@@ -32,6 +32,7 @@ std::string CrfSolverSummary::BriefReport() const {
   if (num_expansions > 0) {
     os << ", " << num_expansions << " max-flows (" << num_skipped_expansions << " skipped), max-flow "
        << max_flow_seconds << " s";
+    if (num_pruned_nodes > 0) os << ", " << num_pruned_nodes << " node moves decided before the cut";
   }
   if (num_truncated_terms > 0) os << ", " << num_truncated_terms << " truncated terms";
   if (num_rejected_moves > 0) os << ", " << num_rejected_moves << " rejected moves";

@@ -45,6 +45,9 @@ struct AlphaExpansionOptions {
   double consistency_tolerance = 1e-6;  // Relative tolerance of the check "cut value = energy change"
                                         // and of "energy never rises". In (0, 1e-2].
   bool log_expansions = false;          // One debug log line per expansion (energy, label, changes).
+  bool prune_decided_nodes = true;      // Before each cut, fix the nodes whose move their own terms decide
+                                        // (strict dominance: switching costs more than all arcs could pay
+                                        // back, or the reverse); exact, and most nodes of a typical move.
 
   bool Check(std::string* error) const;
 };
@@ -69,6 +72,7 @@ struct CrfSolverSummary {
   int64_t num_skipped_expansions = 0;  // Expansions skipped because nothing changed since alpha's last one.
   int64_t num_truncated_terms = 0;     // Non-submodular move terms truncated (0 for metric models).
   int64_t num_rejected_moves = 0;      // Moves rejected because the true energy would rise.
+  int64_t num_pruned_nodes = 0;        // Node moves decided before the cut (summed over expansions).
   bool converged = false;          // A full sweep changed nothing.
   double seconds = 0;              // Wall time of the whole minimisation.
   double max_flow_seconds = 0;     // ... of which in max-flow.

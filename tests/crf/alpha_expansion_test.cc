@@ -38,6 +38,7 @@ void ExpectMonotone(const CrfSolverSummary& s, const std::string& what) {
 TEST(AlphaExpansion, NeverIncreasesEnergy) {
   int problems = 0;
   for (uint64_t seed = 0; seed < 400; ++seed) {
+   for (bool prune : {true, false}) {
     RandomEnergySpec spec;
     spec.num_nodes = 5 + static_cast<int>(seed % 40);
     spec.num_labels = 2 + static_cast<int>(seed % 5);
@@ -53,6 +54,7 @@ TEST(AlphaExpansion, NeverIncreasesEnergy) {
     options.initial_labelling = InitialLabelling::kGiven;
     options.randomize_label_order = seed % 2 == 0;
     options.seed = seed;
+    options.prune_decided_nodes = prune;
     std::vector<CrfLabel> labels = RandomLabels(spec.num_nodes, spec.num_labels, seed + 99);
     CrfSolverSummary summary;
     ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, options, &labels, &summary).ok());
@@ -60,8 +62,9 @@ TEST(AlphaExpansion, NeverIncreasesEnergy) {
     EXPECT_NEAR(summary.final_energy, energy.Evaluate(labels), 1e-9 * (1 + std::abs(summary.final_energy)));
     EXPECT_TRUE(summary.converged);
     ++problems;
+   }
   }
-  EXPECT_EQ(problems, 400);
+  EXPECT_EQ(problems, 800);
 }
 
 // Two labels, submodular pairwise terms (Potts, metric) and Robust P^n cliques (concave in the count,
@@ -129,7 +132,7 @@ TEST(AlphaExpansion, WithinTheKnownFactorOfTheOptimumForMetricPairwise) {
 // Whatever the terms, the result admits no improving expansion move: checked by enumerating every move
 // of every label. This verifies the graph construction (pairwise and Robust P^n) and the max-flow together.
 TEST(AlphaExpansion, ResultIsOptimalForEveryExpansionMove) {
-  for (uint64_t seed = 0; seed < 80; ++seed) {
+  for (uint64_t seed = 0; seed < 160; ++seed) {
     RandomEnergySpec spec;
     spec.num_nodes = 4 + static_cast<int>(seed % 8);
     spec.num_labels = 2 + static_cast<int>(seed % 4);
@@ -140,6 +143,7 @@ TEST(AlphaExpansion, ResultIsOptimalForEveryExpansionMove) {
     const CrfEnergy energy = MakeRandomEnergy(spec, 3000 + seed);
     AlphaExpansionOptions options;
     options.initial_labelling = InitialLabelling::kGiven;
+    options.prune_decided_nodes = seed % 2 == 0;
     std::vector<CrfLabel> labels = RandomLabels(spec.num_nodes, spec.num_labels, seed);
     CrfSolverSummary summary;
     ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, options, &labels, &summary).ok());
@@ -154,6 +158,36 @@ TEST(AlphaExpansion, ResultIsOptimalForEveryExpansionMove) {
       }
     }
   }
+}
+
+// Fixing the nodes whose move is decided before the cut is an exact reduction: the same optimal move,
+// hence the same energy after every expansion (continuous random costs: no ties).
+TEST(AlphaExpansion, PruningDecidedNodesChangesNothingButTheWork) {
+  int64_t pruned = 0;
+  for (uint64_t seed = 0; seed < 100; ++seed) {
+    RandomEnergySpec spec;
+    spec.num_nodes = 10 + static_cast<int>(seed % 50);
+    spec.num_labels = 2 + static_cast<int>(seed % 6);
+    spec.edge_probability = 0.1;
+    spec.num_cliques = static_cast<int>(seed % 3);
+    spec.metric_model = seed % 2 == 0;
+    spec.weighted_cliques = seed % 3 == 0;
+    const CrfEnergy energy = MakeRandomEnergy(spec, 7000 + seed);
+    AlphaExpansionOptions with, without;
+    without.prune_decided_nodes = false;
+    std::vector<CrfLabel> a, b;
+    CrfSolverSummary sa, sb;
+    ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, with, &a, &sa).ok());
+    ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, without, &b, &sb).ok());
+    ASSERT_EQ(sa.energy_per_expansion.size(), sb.energy_per_expansion.size()) << "seed " << seed;
+    for (size_t k = 0; k < sa.energy_per_expansion.size(); ++k) {
+      ASSERT_NEAR(sa.energy_per_expansion[k], sb.energy_per_expansion[k], 1e-9) << "seed " << seed << " move " << k;
+    }
+    EXPECT_EQ(a, b) << "seed " << seed;
+    EXPECT_EQ(sb.num_pruned_nodes, 0);
+    pruned += sa.num_pruned_nodes;
+  }
+  EXPECT_GT(pruned, 1000);  // The reduction does happen.
 }
 
 TEST(AlphaExpansion, RobustPnCliqueMakesAGroupAgree) {
