@@ -579,7 +579,8 @@ void LivingRoom(RoomFurnisher* f, bool studio, bool open_kitchen) {
     }
   }
   if (r->Bernoulli(0.6)) ShelfUnit(f, kBookshelf, 1.6);
-  if (r->Bernoulli(0.3)) {
+  if (f->in().area() > 18 && r->Bernoulli(0.5)) Cabinet(f, 0.8, 1.6, 0.42, 0.7, 0.9);  // Sideboard.
+  if (r->Bernoulli(f->in().area() > 18 ? 0.6 : 0.3)) {
     Pose p;
     if (f->PlaceAgainstWall(0.75, 0.75, 0.85, {}, 0.5, &p)) Chair(f, p, Vary(r->Pick(kFabric), r));
   }
