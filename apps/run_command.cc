@@ -7,6 +7,7 @@
 #include "apps/commands.h"
 #include "core/file_util.h"
 #include "core/log.h"
+#include "core/progress.h"
 #include "io/load_scene.h"
 #include "mapping/occupancy_map.h"
 #include "mapping/octomap_io.h"
@@ -47,7 +48,9 @@ Status RunPipeline(const RunArgs& args) {
   SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(args.outdir));
 
   nlohmann::ordered_json timing;
+  ProgressReporter progress(GetLogLevel() > LogLevel::kInfo ? ProgressMode::kQuiet : ProgressMode::kAuto);
   auto t0 = Clock::now();
+  progress.Begin("load");
   Result<Scene> scene_or = LoadScene(args.input, config.load);
   if (!scene_or.ok()) return scene_or.status();
   Scene& scene = scene_or.value();
@@ -60,13 +63,16 @@ Status RunPipeline(const RunArgs& args) {
   if (scene.is_mesh() ? scene.mesh.faces.empty() : scene.cloud.points.empty())
     return Status::InvalidInput(FileError(args.input, "no geometry left after trimming outliers", "check the units"));
   timing["load"] = Seconds(t0);
+  progress.End();
   SEMVOX_INFO("loaded " << args.input << ": "
                         << (scene.is_mesh() ? std::to_string(scene.mesh.faces.size()) + " triangles"
                                             : std::to_string(scene.cloud.points.size()) + " points"));
 
   t0 = Clock::now();
-  Result<VoxelMap> map_or = Voxelize(scene, config.voxelize);
+  progress.Begin("voxelize");
+  Result<VoxelMap> map_or = Voxelize(scene, config.voxelize, progress.Callback());
   if (!map_or.ok()) return map_or.status();
+  progress.End();
   const VoxelMap& map = map_or.value();
   timing["voxelize"] = Seconds(t0);
   timing["voxelize_surface"] = map.seconds_surface;
@@ -78,11 +84,13 @@ Status RunPipeline(const RunArgs& args) {
 
   // ---- render stage (issue 4): viewpoints and virtual views -> views.json [, views/*.png] ----
   t0 = Clock::now();
+  progress.Begin("render");
   ViewsStageSummary views;
   SEMVOX_RETURN_IF_ERROR(RunViewsStage(scene, map, config.render, args.outdir, args.save_views, &views));
   timing["render"] = Seconds(t0);
   timing["render_build"] = views.seconds_build;
   timing["render_trace"] = views.seconds_render;
+  progress.End();
   // ---- end render stage ----
 
   t0 = Clock::now();
@@ -95,10 +103,12 @@ Status RunPipeline(const RunArgs& args) {
   nlohmann::ordered_json rooms_summary;
   {
     t0 = Clock::now();
+    progress.Begin("rooms");
     const FloorPlan plan = FloorPlanFromVoxels(map.grid, map.floor_z, map.ceiling_z, occ, config.floor_plan);
     const RoomSegmentation rooms = SegmentRooms(plan, config.rooms);
     SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(args.outdir, plan, rooms));
     timing["rooms"] = Seconds(t0);
+    progress.End();
     rooms_summary = {{"method", RoomSegmentationMethodName(config.rooms.method)},
                      {"rooms", rooms.num_rooms},
                      {"door_cells", plan.Count(FloorCell::kDoor)},

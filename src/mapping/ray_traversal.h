@@ -63,3 +63,60 @@ bool TraverseKeys(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, dou
 }
 
 }  // namespace semvox
+
+namespace semvox {
+
+// The same traversal over a dense grid whose first cell has key `grid_origin_key` and whose size is
+// `dims`: visit(size_t index) receives the linear index (x fastest) of each cell, origin cell first, end
+// cell excluded, and stops at the grid's boundary. Cheaper than TraverseKeys per step (the index is
+// carried along). Returns false when the origin is outside the grid.
+template <typename Visit>
+bool TraverseGrid(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, double resolution,
+                  const int grid_origin_key[3], const int dims[3], Visit&& visit) {
+  const double inv = 1.0 / resolution;
+  int64_t cur[3], ke[3];
+  for (int i = 0; i < 3; ++i) {
+    cur[i] = int64_t(std::floor(origin[i] * inv)) + kKeyOffset - grid_origin_key[i];
+    ke[i] = int64_t(std::floor(end[i] * inv)) + kKeyOffset - grid_origin_key[i];
+    if (cur[i] < 0 || cur[i] >= dims[i]) return false;
+  }
+  if (cur[0] == ke[0] && cur[1] == ke[1] && cur[2] == ke[2]) return true;
+  const int64_t stride[3] = {1, dims[0], int64_t(dims[0]) * dims[1]};
+  size_t idx = size_t(cur[2] * stride[2] + cur[1] * stride[1] + cur[0]);
+  if (!visit(idx)) return true;
+  float direction[3] = {end[0] - origin[0], end[1] - origin[1], end[2] - origin[2]};
+  const float norm_sq = direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2];
+  const float length = float(std::sqrt(double(norm_sq)));
+  for (float& d : direction) d /= length;
+  int step[3];
+  int64_t step_idx[3];
+  double t_max[3], t_delta[3];
+  for (int i = 0; i < 3; ++i) {
+    step[i] = direction[i] > 0.0f ? 1 : (direction[i] < 0.0f ? -1 : 0);
+    step_idx[i] = step[i] * stride[i];
+    if (step[i] != 0) {
+      double border = (double(cur[i] + grid_origin_key[i] - kKeyOffset) + 0.5) * resolution;
+      border += float(step[i] * resolution * 0.5);
+      t_max[i] = (border - origin[i]) / direction[i];
+      t_delta[i] = resolution / std::fabs(direction[i]);
+    } else {
+      t_max[i] = std::numeric_limits<double>::max();
+      t_delta[i] = std::numeric_limits<double>::max();
+    }
+  }
+  while (true) {
+    int d;
+    if (t_max[0] < t_max[1]) d = t_max[0] < t_max[2] ? 0 : 2;
+    else d = t_max[1] < t_max[2] ? 1 : 2;
+    cur[d] += step[d];
+    if (cur[d] < 0 || cur[d] >= dims[d]) break;
+    idx += step_idx[d];
+    t_max[d] += t_delta[d];
+    if (cur[0] == ke[0] && cur[1] == ke[1] && cur[2] == ke[2]) break;
+    if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) break;
+    if (!visit(idx)) break;
+  }
+  return true;
+}
+
+}  // namespace semvox

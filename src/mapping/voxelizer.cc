@@ -237,15 +237,19 @@ void VoxelizeCloudSurface(const PointCloud& cloud, const std::vector<Eigen::Vect
   });
 }
 
-size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_range_m, VoxelGrid* grid) {
+size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_range_m, VoxelGrid* grid,
+                     const ProgressCallback& progress) {
   std::vector<size_t> occupied;
   for (size_t i = 0; i < grid->size(); ++i)
     if (grid->state(i) == VoxelState::kOccupied) occupied.push_back(i);
   uint8_t* state = grid->state_data();
-  const auto& ok = grid->origin_key();
+  const int okey[3] = {grid->origin_key()[0], grid->origin_key()[1], grid->origin_key()[2]};
+  const int dims[3] = {grid->dims()[0], grid->dims()[1], grid->dims()[2]};
   const double res = grid->resolution();
   std::atomic<size_t> rays{0};
-  for (const Eigen::Vector3d& pos : positions) {
+  for (size_t pi = 0; pi < positions.size(); ++pi) {
+    if (progress) progress(pi, positions.size());
+    const Eigen::Vector3d& pos = positions[pi];
     const Eigen::Vector3f origin = pos.cast<float>();
     const auto oc = grid->CellOf(pos);
     if (grid->Contains(oc[0], oc[1], oc[2]) && grid->state(grid->Index(oc[0], oc[1], oc[2])) != VoxelState::kOccupied)
@@ -260,10 +264,8 @@ size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_r
         // Extend the segment half a voxel past the target centre so the target cell is entered.
         const Eigen::Vector3d dir = (target - pos).normalized();
         const Eigen::Vector3f end = (target + dir * (0.5 * res)).cast<float>();
-        TraverseKeys(origin, end, res, [&](int64_t kx, int64_t ky, int64_t kz) {
-          const int ix = int(kx - ok[0]), iy = int(ky - ok[1]), iz = int(kz - ok[2]);
-          if (!grid->Contains(ix, iy, iz)) return false;
-          uint8_t* cellp = state + grid->Index(ix, iy, iz);
+        TraverseGrid(origin, end, res, okey, dims, [&](size_t idx) {
+          uint8_t* cellp = state + idx;
           const VoxelState s = LoadState(cellp);
           if (s == VoxelState::kOccupied) return false;
           if (s == VoxelState::kUnknown) StoreState(cellp, VoxelState::kFree);
@@ -273,10 +275,11 @@ size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_r
       rays += local;
     });
   }
+  if (progress) progress(positions.size(), positions.size());
   return rays.load();
 }
 
-Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options) {
+Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, const ProgressCallback& progress) {
   std::string error;
   if (!options.Check(&error)) return Status::InvalidInput(error);
   VoxelMap map;
@@ -393,7 +396,7 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options) {
   if (map.scan_positions.empty())
     SEMVOX_WARN(scene.source_path << ": no virtual scan position fits in the scanned space; all non-surface voxels "
                                      "stay unknown");
-  map.rays_cast = CastFreeSpace(map.scan_positions, options.max_range_m, &grid);
+  map.rays_cast = CastFreeSpace(map.scan_positions, options.max_range_m, &grid, progress);
   map.seconds_free_space = Seconds(t0);
   return map;
 }

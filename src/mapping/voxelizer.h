@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/geometry.h"
+#include "core/progress.h"
 #include "core/status.h"
 #include "core/voxel_grid.h"
 
@@ -52,7 +53,8 @@ struct VoxelMap {
 // options.max_voxels or the OctoMap key range.
 Status PlanVoxelGrid(const Aabb& box, const VoxelizeOptions& options, VoxelGrid* grid);
 
-Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options);
+// `progress` (optional) is called as free-space rays are cast, once per scan position.
+Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, const ProgressCallback& progress = {});
 
 // Building blocks, exposed for tests and benchmarks.
 // Marks the voxels each triangle passes through as occupied (exact triangle/box overlap, half-open cells).
@@ -62,6 +64,7 @@ void VoxelizeMeshSurface(const Mesh& mesh, VoxelGrid* grid);
 void VoxelizeCloudSurface(const PointCloud& cloud, const std::vector<Eigen::Vector3f>& normals,
                           const std::vector<float>& spacing, VoxelGrid* grid);
 // Marks free voxels seen from `positions`. Returns the number of rays cast.
-size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_range_m, VoxelGrid* grid);
+size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_range_m, VoxelGrid* grid,
+                     const ProgressCallback& progress = {});
 
 }  // namespace semvox
