@@ -298,12 +298,17 @@ Status ViewRenderer::Render(const PinholeCamera& camera, const Eigen::Isometry3d
         const int nx0 = (next % tiles_x) * kTileWidth, ny0 = (next / tiles_x) * kTileHeight;
         for (int row = ny0; row < std::min(ny0 + kTileHeight, h); ++row) {
           const size_t i = size_t(row) * w + nx0;
+          // First and last element of each buffer's run (the runs need not start on a line).
           __builtin_prefetch(depth + i, 1);
+          __builtin_prefetch(depth + i + kTileWidth - 1, 1);
           __builtin_prefetch(primitive + i, 1);
+          __builtin_prefetch(primitive + i + kTileWidth - 1, 1);
           for (int k = 0; k < 3 * kTileWidth; k += 16) __builtin_prefetch(normal + 3 * i + k, 1);
-          __builtin_prefetch(key + i, 1);
-          __builtin_prefetch(key + i + 10, 1);
+          __builtin_prefetch(normal + 3 * i + 3 * kTileWidth - 1, 1);
+          for (int k = 0; k < kTileWidth; k += 10) __builtin_prefetch(key + i + k, 1);
+          __builtin_prefetch(key + i + kTileWidth - 1, 1);
           __builtin_prefetch(rgb + 3 * i, 1);
+          __builtin_prefetch(rgb + 3 * i + 3 * kTileWidth - 1, 1);
         }
       }
       for (int sub = 0; sub < kTileWidth / kPacketSide; ++sub) {
