@@ -54,7 +54,8 @@ struct RoomsArgs {
   std::string ground_truth_path;  // Optional ipa-style _gt_segmentation.png: print recall and precision.
 };
 
-// `semvox rooms`: segments a 2D map into rooms; writes OUTDIR/rooms.png (16-bit ids), rooms.geojson, rooms.svg.
+// `semvox rooms`: segments a 2D map into rooms; writes OUTDIR/rooms.png (16-bit ids), rooms.geojson, rooms.svg,
+// config_used.yaml.
 Status RunRooms(const RoomsArgs& args);
 
 // ---- render (apps/render_command.cc) ----

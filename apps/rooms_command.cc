@@ -34,9 +34,11 @@ Status RunRooms(const RoomsArgs& args) {
                                           "maps are 0 occupied, 255 free"));
   const RoomSegmentation rooms = SegmentRooms(plan, config.rooms);
   SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(args.outdir, plan, rooms));
+  SEMVOX_RETURN_IF_ERROR(
+      WriteFileAtomic((std::filesystem::path(args.outdir) / "config_used.yaml").string(), DumpConfig(config)));
   SEMVOX_INFO(args.map_path << ": " << rooms.num_rooms << " rooms (" << RoomSegmentationMethodName(config.rooms.method)
                             << ", " << rooms.seconds << " s); outputs in " << args.outdir
-                            << " (rooms.png, rooms.geojson, rooms.svg)");
+                            << " (rooms.png, rooms.geojson, rooms.svg, config_used.yaml)");
   if (!args.ground_truth_path.empty()) {
     Result<Image<uint8_t>> gt_grey = ReadGreyMap(args.ground_truth_path);
     if (!gt_grey.ok()) return gt_grey.status();
