@@ -1,0 +1,96 @@
+// The per-view classifier: superpixels -> observations -> k-NN unaries -> tree CRF and union-coverage CRF.
+//
+//   TrainingSet set;
+//   AddTrainingView(view, pixel_classes, options, &set);           // for every training view
+//   Result<ViewClassifier> clf = ViewClassifier::Train(set, num_classes, options);
+//   Result<ViewClassification> out = clf->Classify(view);          // out->tree_labels, out->union_marginals ...
+//
+// Two k-NN models, as the heterogeneous-coverage paper's f1 and f2: image-only (8-D) trained on every
+// labelled superpixel, image + 3D (15-D) trained on those with depth.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "core/status.h"
+#include "perception/belief_propagation.h"
+#include "perception/knn_unary.h"
+#include "perception/observations.h"
+#include "perception/superpixels.h"
+#include "perception/view_crf.h"
+#include "render/view_renderer.h"
+
+namespace semvox {
+
+struct ViewClassifierOptions {
+  SuperpixelOptions superpixels;
+  ObservationOptions observations;
+  KnnOptions knn;
+  ViewCrfOptions crf;
+  LoopyBpOptions loopy;
+  // A training superpixel takes the majority class of its labelled pixels when that class covers at
+  // least this fraction of them; otherwise it is not used. (0, 1].
+  double min_label_purity = 0.5;
+
+  bool Check(std::string* error) const;
+};
+
+// Rows of observations with their classes, for the two k-NN models.
+struct TrainingSet {
+  std::vector<float> image_features;  // kImageObservationDims per row.
+  std::vector<int> image_labels;
+  std::vector<float> full_features;   // kObservationDims per row (superpixels with depth only).
+  std::vector<int> full_labels;
+};
+
+// Adds the superpixels of one view. `pixel_classes`: class per pixel in [0, num_classes), -1 = ignore.
+Status AddTrainingView(const RenderedView& view, const Image<int32_t>& pixel_classes,
+                       const ViewClassifierOptions& options, TrainingSet* set);
+
+struct ViewClassification {
+  Superpixels superpixels;
+  ViewObservations observations;
+  std::vector<std::vector<double>> knn;  // Per superpixel: f2's P_s with depth, f1's without.
+  std::vector<int> knn_labels;           // Argmax of knn.
+  Marginals tree_marginals;              // Tree CRF (exact sum-product).
+  std::vector<int> tree_labels;          // Tree CRF MAP (exact max-product).
+  Marginals union_marginals;             // Union-coverage CRF (loopy BP).
+  std::vector<int> union_labels;         // Argmax of union_marginals.
+  LoopyBpSummary union_bp;
+};
+
+class ViewClassifier {
+ public:
+  static Result<ViewClassifier> Train(const TrainingSet& set, int num_classes, const ViewClassifierOptions& options);
+  Result<ViewClassification> Classify(const RenderedView& view) const;
+
+  int num_classes() const { return image_knn_.num_classes(); }
+  const ViewClassifierOptions& options() const { return options_; }
+  // PREFIX.image_knn.bin and PREFIX.full_knn.bin (the CRF options are configuration, not model).
+  Status Save(const std::string& prefix) const;
+  static Result<ViewClassifier> Load(const std::string& prefix, const ViewClassifierOptions& options);
+
+ private:
+  ViewClassifier(KnnClassifier image_knn, KnnClassifier full_knn, ViewClassifierOptions options)
+      : image_knn_(std::move(image_knn)), full_knn_(std::move(full_knn)), options_(std::move(options)) {}
+  KnnClassifier image_knn_, full_knn_;
+  ViewClassifierOptions options_;
+};
+
+// Pixel-wise confusion counts: recall per class, average (mean recall) and global accuracy.
+struct ConfusionMatrix {
+  explicit ConfusionMatrix(int num_classes = 0) : m(num_classes), counts(size_t(num_classes) * size_t(num_classes), 0) {}
+  int m;
+  std::vector<int64_t> counts;  // [truth * m + predicted].
+  void Add(int truth, int predicted) { ++counts[size_t(truth) * size_t(m) + size_t(predicted)]; }
+  // Adds every pixel with truth >= 0.
+  void AddImages(const Image<int32_t>& truth, const Image<int32_t>& predicted);
+  void Merge(const ConfusionMatrix& other);
+  int64_t Total() const;
+  double Recall(int c) const;  // NaN when class c never occurs.
+  double AverageRecall() const;  // Over the classes that occur.
+  double GlobalAccuracy() const;
+};
+
+}  // namespace semvox
