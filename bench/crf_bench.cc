@@ -2,8 +2,9 @@
 // minimised by
 //   - semvox alpha-expansion with semvox's own Boykov-Kolmogorov max-flow (crf/max_flow.h), with and
 //     ("semvox-noprune") without fixing the nodes whose move is decided before the cut,
-//   - the same alpha-expansion driver on Boost's boykov_kolmogorov_max_flow (same moves, same graph
-//     topology fixed once and capacities reset per move: only the max-flow differs),
+//   - the same alpha-expansion driver (default options, so with the reduction) on Boost's
+//     boykov_kolmogorov_max_flow (same moves, graph topology fixed once and capacities reset per move:
+//     only the max-flow differs),
 //   - the same driver on OpenCV's GCGraph (rebuilt per move: it has no capacity reset),
 //   - ICM,
 // reporting energy reached, seconds, sweeps and peak memory side by side. Every solver runs in its own
@@ -15,6 +16,8 @@
 // uniform in [0, 1) (std::mt19937_64 seeded with --seed); every edge has Potts weight --potts (0.05).
 //
 //   build-crf/bin/crf_bench [--problems grid2d,grid3d] [--solvers semvox,boost,opencv,icm] [--labels 21]
+//     (also semvox-noprune, boost-noprune, opencv-noprune: the driver without the decided-node reduction,
+//      i.e. plain alpha-expansion as in the reference figures)
 //                           [--potts 0.05] [--seed 1] [--init argmin|zero] [--size3d 100]
 //                           [--cliques B]   (Robust P^n cliques on B x B (x B) tiles, see MakeGridEnergy)
 #include <sys/resource.h>
@@ -310,14 +313,16 @@ RunResult RunSolver(const std::string& problem, const std::string& solver, const
     options.initial_labelling = init;
     options.prune_decided_nodes = solver == "semvox";
     st = MinimizeWithAlphaExpansion(energy, options, &labels, &summary);
-  } else if (solver == "boost") {
+  } else if (solver == "boost" || solver == "boost-noprune") {
     AlphaExpansionOptions options;
     options.initial_labelling = init;
+    options.prune_decided_nodes = solver == "boost";
     BoostBkGraph graph;
     st = crf_internal::RunAlphaExpansion(energy, options, graph, &labels, &summary);
-  } else if (solver == "opencv") {
+  } else if (solver == "opencv" || solver == "opencv-noprune") {
     AlphaExpansionOptions options;
     options.initial_labelling = init;
+    options.prune_decided_nodes = solver == "opencv";
     OpenCvGcGraph graph;
     st = crf_internal::RunAlphaExpansion(energy, options, graph, &labels, &summary);
   } else if (solver == "icm") {
@@ -408,6 +413,8 @@ int main(int argc, char** argv) {
                          : solver == "semvox-noprune" ? "alpha-exp semvox, no prune"
                          : solver == "boost" ? "alpha-exp Boost BK"
                          : solver == "opencv" ? "alpha-exp OpenCV GCGraph"
+                         : solver == "boost-noprune" ? "alpha-exp Boost, no prune"
+                         : solver == "opencv-noprune" ? "alpha-exp OpenCV, no prune"
                          : solver == "icm"   ? "ICM"
                                              : "(problem only)";
       std::printf("%-8s %-25s %18.6f %18.6f %6d %5ld %8.3f %9.3f %8.3f %8.1f", problem.c_str(), name,

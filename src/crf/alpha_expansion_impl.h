@@ -37,14 +37,16 @@ inline constexpr uint8_t kMoveAtAlpha = 3;  // Already labelled alpha.
 // Energy change when the nodes in `changed` (flag per node) move to alpha; exact, local.
 inline double ExpansionEnergyChange(const CrfEnergy& energy, const NodeIncidence& edge_incidence,
                                     const NodeIncidence& clique_incidence,
-                                    std::span<const CrfLabel> labels, const std::vector<int>& changed_nodes,
+                                    std::span<const CrfLabel> labels, std::span<const float> current_unary,
+                                    const std::vector<int>& changed_nodes,
                                     const std::vector<uint8_t>& changed, CrfLabel alpha,
                                     std::vector<int>* clique_stamp, int stamp,
                                     std::vector<double>* old_weight, std::vector<double>* new_weight) {
   double delta = 0;
   const auto& edges = energy.edges();
+  const float* plane = energy.unary_plane(alpha).data();
   for (int i : changed_nodes) {
-    delta += static_cast<double>(energy.unary(i, alpha)) - energy.unary(i, labels[i]);
+    delta += static_cast<double>(plane[i]) - current_unary[i];
     for (int e : edge_incidence.Of(i)) {
       const CrfEnergy::Edge& edge = edges[e];
       const int other = edge.i == i ? edge.j : edge.i;
@@ -93,11 +95,10 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
   // Fixed topology: CRF nodes 0..N-1, then per clique z = N + 2c and y = N + 2c + 1; edges in CRF order,
   // then per clique and member k the arcs (member -> z) and (y -> member).
   graph.AddNodes(N + 2 * C);
-  if constexpr (requires { graph.ReserveEdges(size_t{0}); }) {
-    size_t clique_members = 0;
-    for (int c = 0; c < C; ++c) clique_members += energy.clique_nodes(c).size();
-    graph.ReserveEdges(edges.size() + 2 * clique_members);
-  }
+  size_t clique_members = 0;
+  for (int c = 0; c < C; ++c) clique_members += energy.clique_nodes(c).size();
+  const size_t num_graph_edges = edges.size() + 2 * clique_members;
+  if constexpr (requires { graph.ReserveEdges(size_t{0}); }) graph.ReserveEdges(num_graph_edges);
   for (const CrfEnergy::Edge& e : edges) graph.AddEdge(e.i, e.j, 0, 0);
   std::vector<int> clique_first_edge(C);
   for (int c = 0, next_edge = num_pairwise; c < C; ++c) {
@@ -118,6 +119,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
   std::vector<int> clique_stamp(C, -1);
   std::vector<double> scratch(L, 0.0), old_weight(L, 0.0), new_weight(L, 0.0);
   std::vector<RobustPnMove> plans(C);
+  std::vector<uint8_t> edge_live(num_graph_edges, 0);  // The edge had a non-zero capacity in the last cut.
   // Pruning (options.prune_decided_nodes): per node a bound on how much its pairwise and clique terms
   // can change when it switches, whatever the other nodes do: sum over its edges of w * (max V - min V)
   // of the edge's model, plus per clique max_l theta_l * w_i (Robust P^n changes by at most that when
@@ -211,12 +213,20 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
         const CrfLabel* const x = labels.data();
         // An arc tail -> head of capacity cap costs cap (1 - t_tail) t_head; arcs touching a decided node
         // fold into the other end's unary or the constant and leave the graph.
+        // An edge whose two arcs were zero after the last cut carried no flow, so they are still zero:
+        // writing zero again is skipped (most edges of decided nodes).
+        auto set_edge = [&](int e, double cap) {
+          if (cap > 0 || edge_live[e]) {
+            graph.SetEdgeCapacities(e, cap, 0);
+            edge_live[e] = cap > 0;
+          }
+        };
         // Branch-free (the states are random): keep -> free: cap t_head; keep -> switch: cap;
         // free -> switch: cap (1 - t_tail); free -> free: the arc; anything else: 0.
         auto arc = [&](int e, int tail, int head, double cap, uint8_t ft, uint8_t fh) {
           const bool tail_free = ft == kMoveFree, head_free = fh == kMoveFree;
           const bool tail_keep = ft == kMoveKeep, head_switch = fh == kMoveSwitch;
-          graph.SetEdgeCapacities(e, tail_free && head_free ? cap : 0.0, 0);
+          set_edge(e, tail_free && head_free ? cap : 0.0);
           d[head] += (tail_keep && head_free) ? cap : 0.0;
           d[tail] -= (tail_free && head_switch) ? cap : 0.0;
           pairwise_constant += ((tail_keep || tail_free) && head_switch) ? cap : 0.0;
@@ -235,7 +245,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
                 pairwise_constant += w;
                 d[fi ? edge.j : edge.i] -= w;
               }
-              graph.SetEdgeCapacities(e, 0, 0);
+              set_edge(e, 0.0);
             } else {
               // A = w [li != lj], B = C = w, D = 0: E = A + (w - A) t_i - w t_j + (2w - A) (1 - t_i) t_j.
               const double A = li != lj ? w : 0.0;
@@ -259,7 +269,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
               pairwise_constant += A;
               d[edge.j] += D - A;
             }
-            graph.SetEdgeCapacities(e, 0, 0);
+            set_edge(e, 0.0);
           } else {
             const double A = energy.EdgeCost(edge, li, lj);
             const double B = energy.EdgeCost(edge, li, alpha);
@@ -327,7 +337,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
           changed_nodes.push_back(i);
         }
       }
-      const double change = ExpansionEnergyChange(energy, edge_incidence, clique_incidence, labels, changed_nodes,
+      const double change = ExpansionEnergyChange(energy, edge_incidence, clique_incidence, labels, current_unary, changed_nodes,
                                                   changed, alpha, &clique_stamp, stamp++, &old_weight, &new_weight);
       const double tolerance = options.consistency_tolerance * (1.0 + std::abs(current));
       if (truncated == 0) {
