@@ -96,4 +96,15 @@ struct BatchArgs {
 // `semvox batch`: resumable, keeps going past failures; kInternal (exit 1) when any scan failed.
 Status RunBatch(const BatchArgs& args);
 
+// ---- train (apps/train_command.cc) ----
+struct TrainArgs {
+  std::string outdir = "models";            // Model files and train_report.json.
+  std::string train_seeds = "0-39";         // Generator seeds to train on ("A-B" or "A,B,...").
+  std::string val_seeds = "100-109";        // Generator seeds to score on.
+  int max_rows = 20000;                     // Rows kept per k-NN model (even stride), 0 = all.
+};
+
+// `semvox train`: per-view classifiers (k-NN unaries, tree and union CRFs) from generated apartments.
+Status RunTrain(const TrainArgs& args);
+
 }  // namespace semvox

@@ -67,6 +67,14 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--gt", eval.gt_dir, "directory written by semvox generate --seed N")->required();
   eval_cmd->add_option("-o,--output", eval.output, "eval.json path (default PRED/eval.json)");
 
+  semvox::TrainArgs train;
+  CLI::App* train_cmd = app.add_subcommand("train", "train the per-view classifiers on generated apartments and write models/");
+  train_cmd->add_option("-o,--output", train.outdir, "output directory for the model files (default models)");
+  train_cmd->add_option("--train-seeds", train.train_seeds, "generator seeds to train on, e.g. 0-39 or 1,5,9");
+  train_cmd->add_option("--val-seeds", train.val_seeds, "generator seeds to score on, e.g. 100-109");
+  train_cmd->add_option("--max-rows", train.max_rows, "training rows kept per k-NN model, 0 = all")->check(CLI::NonNegativeNumber);
+  train_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
+
   semvox::RenderArgs render;
   CLI::App* render_cmd = app.add_subcommand("render", "render chosen views of a mesh or cloud into DIR for inspection");
   render_cmd->add_option("input", render.input, "mesh or point cloud, as for `semvox run`")->required();
@@ -122,6 +130,7 @@ int main(int argc, char** argv) {
     if (*eval_cmd) return Report(semvox::RunEval(eval));
     if (*rooms_cmd) return Report(semvox::RunRooms(rooms_args));
     if (*render_cmd) return Report(semvox::RunRender(render));
+    if (*train_cmd) return Report(semvox::RunTrain(train));
     if (*config_cmd) {
       semvox::PipelineConfig config;
       if (!check_path.empty()) {

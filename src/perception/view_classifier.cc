@@ -17,6 +17,31 @@ bool ViewClassifierOptions::Check(std::string* error) const {
   return true;
 }
 
+void AddTrainingSuperpixels(const Superpixels& superpixels, const ViewObservations& observations,
+                            const Image<int32_t>& pixel_classes, double min_label_purity, TrainingSet* set) {
+  // Majority class per superpixel.
+  int num_classes = 0;
+  for (int32_t c : pixel_classes.data) num_classes = std::max(num_classes, c + 1);
+  if (num_classes == 0) return;
+  std::vector<int> votes(size_t(superpixels.count) * size_t(num_classes), 0);
+  for (size_t k = 0; k < pixel_classes.data.size(); ++k)
+    if (pixel_classes.data[k] >= 0) ++votes[size_t(superpixels.label.data[k]) * size_t(num_classes) + size_t(pixel_classes.data[k])];
+  for (int s = 0; s < superpixels.count; ++s) {
+    const int* row = &votes[size_t(s) * size_t(num_classes)];
+    int total = 0;
+    for (int c = 0; c < num_classes; ++c) total += row[c];
+    const int best = int(std::max_element(row, row + num_classes) - row);
+    if (total == 0 || row[best] < min_label_purity * total) continue;
+    const SuperpixelObservation& o = observations.superpixels[size_t(s)];
+    set->image_features.insert(set->image_features.end(), o.z.begin(), o.z.begin() + kImageObservationDims);
+    set->image_labels.push_back(best);
+    if (o.has_depth) {
+      set->full_features.insert(set->full_features.end(), o.z.begin(), o.z.end());
+      set->full_labels.push_back(best);
+    }
+  }
+}
+
 Status AddTrainingView(const RenderedView& view, const Image<int32_t>& pixel_classes,
                        const ViewClassifierOptions& options, TrainingSet* set) {
   std::string error;
@@ -27,27 +52,7 @@ Status AddTrainingView(const RenderedView& view, const Image<int32_t>& pixel_cla
   if (!sp.ok()) return sp.status();
   Result<ViewObservations> obs = ComputeObservations(view, *sp, options.observations);
   if (!obs.ok()) return obs.status();
-  // Majority class per superpixel.
-  int num_classes = 0;
-  for (int32_t c : pixel_classes.data) num_classes = std::max(num_classes, c + 1);
-  if (num_classes == 0) return Status::Ok();
-  std::vector<int> votes(size_t(sp->count) * size_t(num_classes), 0);
-  for (size_t k = 0; k < pixel_classes.data.size(); ++k)
-    if (pixel_classes.data[k] >= 0) ++votes[size_t(sp->label.data[k]) * size_t(num_classes) + size_t(pixel_classes.data[k])];
-  for (int s = 0; s < sp->count; ++s) {
-    const int* row = &votes[size_t(s) * size_t(num_classes)];
-    int total = 0;
-    for (int c = 0; c < num_classes; ++c) total += row[c];
-    const int best = int(std::max_element(row, row + num_classes) - row);
-    if (total == 0 || row[best] < options.min_label_purity * total) continue;
-    const SuperpixelObservation& o = obs->superpixels[size_t(s)];
-    set->image_features.insert(set->image_features.end(), o.z.begin(), o.z.begin() + kImageObservationDims);
-    set->image_labels.push_back(best);
-    if (o.has_depth) {
-      set->full_features.insert(set->full_features.end(), o.z.begin(), o.z.end());
-      set->full_labels.push_back(best);
-    }
-  }
+  AddTrainingSuperpixels(*sp, *obs, pixel_classes, options.min_label_purity, set);
   return Status::Ok();
 }
 
@@ -62,13 +67,19 @@ Result<ViewClassifier> ViewClassifier::Train(const TrainingSet& set, int num_cla
 }
 
 Result<ViewClassification> ViewClassifier::Classify(const RenderedView& view) const {
-  ViewClassification out;
   Result<Superpixels> sp = ComputeSuperpixels(view.rgb, options_.superpixels);
   if (!sp.ok()) return sp.status();
-  out.superpixels = std::move(sp).value();
-  Result<ViewObservations> obs = ComputeObservations(view, out.superpixels, options_.observations);
+  Result<ViewObservations> obs = ComputeObservations(view, *sp, options_.observations);
   if (!obs.ok()) return obs.status();
-  out.observations = std::move(obs).value();
+  return Classify(std::move(sp).value(), std::move(obs).value());
+}
+
+Result<ViewClassification> ViewClassifier::Classify(Superpixels superpixels, ViewObservations observations) const {
+  if (int(observations.superpixels.size()) != superpixels.count)
+    return Status::InvalidInput("classify: observations do not match the superpixels");
+  ViewClassification out;
+  out.superpixels = std::move(superpixels);
+  out.observations = std::move(observations);
   const size_t n = out.observations.superpixels.size();
   std::vector<std::vector<double>> f1(n), f2(n);
   out.knn.resize(n);

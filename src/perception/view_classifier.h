@@ -44,7 +44,12 @@ struct TrainingSet {
   std::vector<int> full_labels;
 };
 
-// Adds the superpixels of one view. `pixel_classes`: class per pixel in [0, num_classes), -1 = ignore.
+// Adds the superpixels of an already segmented view: each takes the majority class of its pixels
+// (`pixel_classes`, -1 = ignore) when that class holds at least `min_label_purity` of them.
+void AddTrainingSuperpixels(const Superpixels& superpixels, const ViewObservations& observations,
+                            const Image<int32_t>& pixel_classes, double min_label_purity, TrainingSet* set);
+
+// Segments one view and adds its superpixels. `pixel_classes`: class per pixel in [0, num_classes), -1 = ignore.
 Status AddTrainingView(const RenderedView& view, const Image<int32_t>& pixel_classes,
                        const ViewClassifierOptions& options, TrainingSet* set);
 
@@ -64,6 +69,8 @@ class ViewClassifier {
  public:
   static Result<ViewClassifier> Train(const TrainingSet& set, int num_classes, const ViewClassifierOptions& options);
   Result<ViewClassification> Classify(const RenderedView& view) const;
+  // The same from an already segmented view (one segmentation shared by classifiers of two label levels).
+  Result<ViewClassification> Classify(Superpixels superpixels, ViewObservations observations) const;
 
   int num_classes() const { return image_knn_.num_classes(); }
   const ViewClassifierOptions& options() const { return options_; }

@@ -1,0 +1,161 @@
+// `semvox train`: trains the per-view classifiers (issue 5) on generated training apartments, scores
+// them on the validation apartments and writes the model files and a report.
+//
+//   semvox train [-o models] [--train-seeds 0-39] [--val-seeds 100-109] [--max-rows 20000]
+//
+// Writes OUT/nyu4.{image_knn,full_knn}.bin, OUT/second.{image_knn,full_knn}.bin and OUT/train_report.json
+// (per level and method: pixel-wise global accuracy, average recall and per-class recall on the
+// validation views). Deterministic: the same seeds give the same bytes.
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "apps/commands.h"
+#include "core/file_util.h"
+#include "core/log.h"
+#include "perception/training_data.h"
+#include "perception/view_classifier.h"
+
+namespace semvox {
+namespace {
+
+// Parses "A-B" or "A" or "A,B,C".
+Status ParseSeeds(const std::string& text, const char* flag, std::vector<uint64_t>* seeds) {
+  seeds->clear();
+  size_t pos = 0;
+  while (pos <= text.size()) {
+    const size_t comma = text.find(',', pos);
+    const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    try {
+      const size_t dash = item.find('-');
+      size_t used = 0;
+      if (dash == std::string::npos) {
+        seeds->push_back(std::stoull(item, &used));
+        if (used != item.size()) throw std::invalid_argument(item);
+      } else {
+        const uint64_t a = std::stoull(item.substr(0, dash)), b = std::stoull(item.substr(dash + 1));
+        if (b < a || b - a > 100000) throw std::invalid_argument(item);
+        for (uint64_t s = a; s <= b; ++s) seeds->push_back(s);
+      }
+    } catch (const std::exception&) {
+      return Status::InvalidInput(std::string(flag) + " = '" + text + "': expected seeds like 0-39 or 1,5,9");
+    }
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  return seeds->empty() ? Status::InvalidInput(std::string(flag) + " is empty") : Status::Ok();
+}
+
+// Keeps at most `max_rows` rows of each model's training set, at an even stride (deterministic).
+void Subsample(int max_rows, TrainingSet* set) {
+  auto thin = [&](std::vector<float>* f, std::vector<int>* l, int dims) {
+    if (max_rows <= 0 || l->size() <= size_t(max_rows)) return;
+    std::vector<float> nf;
+    std::vector<int> nl;
+    const double stride = double(l->size()) / max_rows;
+    for (int r = 0; r < max_rows; ++r) {
+      const size_t i = size_t(r * stride);
+      nl.push_back((*l)[i]);
+      nf.insert(nf.end(), f->begin() + long(i * size_t(dims)), f->begin() + long((i + 1) * size_t(dims)));
+    }
+    f->swap(nf);
+    l->swap(nl);
+  };
+  thin(&set->image_features, &set->image_labels, kImageObservationDims);
+  thin(&set->full_features, &set->full_labels, kObservationDims);
+}
+
+nlohmann::json Scores(const ConfusionMatrix& cm, const LabelLevel& level) {
+  auto num = [](double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(std::round(v * 1e4) / 1e4); };
+  nlohmann::json j;
+  j["global_accuracy"] = num(cm.GlobalAccuracy());
+  j["average_recall"] = num(cm.AverageRecall());
+  j["pixels"] = cm.Total();
+  for (int c = 0; c < level.num_classes(); ++c) j["recall"][level.class_names[size_t(c)]] = num(cm.Recall(c));
+  return j;
+}
+
+}  // namespace
+
+Status RunTrain(const TrainArgs& args) {
+  std::vector<uint64_t> train_seeds, val_seeds;
+  SEMVOX_RETURN_IF_ERROR(ParseSeeds(args.train_seeds, "--train-seeds", &train_seeds));
+  SEMVOX_RETURN_IF_ERROR(ParseSeeds(args.val_seeds, "--val-seeds", &val_seeds));
+  std::error_code ec;
+  std::filesystem::create_directories(args.outdir, ec);
+  if (ec) return Status::InvalidInput(FileError(args.outdir, "cannot create the output directory", ec.message()));
+  const std::vector<LabelLevel> levels = {Nyu4Level(), SecondLevel()};
+  ViewClassifierOptions options;
+  TrainingViewsOptions views;
+  std::vector<TrainingSet> sets(levels.size());
+  int train_views = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (uint64_t seed : train_seeds) {
+    SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, views, [&](const LabelledView& v) {
+      Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
+      if (!sp.ok()) return sp.status();
+      Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
+      if (!obs.ok()) return obs.status();
+      for (size_t l = 0; l < levels.size(); ++l)
+        AddTrainingSuperpixels(*sp, *obs, levels[l].Map(*v.nyu40), options.min_label_purity, &sets[l]);
+      ++train_views;
+      return Status::Ok();
+    }));
+    SEMVOX_INFO("train: seed " << seed << ", " << train_views << " views so far");
+  }
+  std::vector<ViewClassifier> classifiers;
+  nlohmann::json report;
+  report["train_seeds"] = args.train_seeds;
+  report["val_seeds"] = args.val_seeds;
+  report["train_views"] = train_views;
+  for (size_t l = 0; l < levels.size(); ++l) {
+    report["levels"][levels[l].name]["train_rows_image"] = sets[l].image_labels.size();
+    report["levels"][levels[l].name]["train_rows_image_3d"] = sets[l].full_labels.size();
+    Subsample(args.max_rows, &sets[l]);
+    Result<ViewClassifier> clf = ViewClassifier::Train(sets[l], levels[l].num_classes(), options);
+    if (!clf.ok()) return clf.status();
+    SEMVOX_RETURN_IF_ERROR(clf->Save(args.outdir + "/" + levels[l].name));
+    classifiers.push_back(std::move(clf).value());
+  }
+  // Validation: pixel-wise confusion per level and method.
+  std::vector<std::array<ConfusionMatrix, 3>> cms;
+  for (const LabelLevel& level : levels)
+    cms.push_back({ConfusionMatrix(level.num_classes()), ConfusionMatrix(level.num_classes()), ConfusionMatrix(level.num_classes())});
+  int val_views = 0;
+  for (uint64_t seed : val_seeds) {
+    SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, views, [&](const LabelledView& v) {
+      Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
+      if (!sp.ok()) return sp.status();
+      Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
+      if (!obs.ok()) return obs.status();
+      for (size_t l = 0; l < levels.size(); ++l) {
+        Result<ViewClassification> c = classifiers[l].Classify(*sp, *obs);
+        if (!c.ok()) return c.status();
+        const Image<int32_t> truth = levels[l].Map(*v.nyu40);
+        cms[l][0].AddImages(truth, PixelLabels(c->superpixels, c->knn_labels));
+        cms[l][1].AddImages(truth, PixelLabels(c->superpixels, c->tree_labels));
+        cms[l][2].AddImages(truth, PixelLabels(c->superpixels, c->union_labels));
+      }
+      ++val_views;
+      return Status::Ok();
+    }));
+  }
+  report["val_views"] = val_views;
+  const char* methods[3] = {"knn", "tree_crf", "union_crf"};
+  for (size_t l = 0; l < levels.size(); ++l) {
+    std::printf("%s (%d classes), %d validation views:\n", levels[l].name.c_str(), levels[l].num_classes(), val_views);
+    for (int k = 0; k < 3; ++k) {
+      report["levels"][levels[l].name][methods[k]] = Scores(cms[l][size_t(k)], levels[l]);
+      std::printf("  %-9s global %.3f  average %.3f\n", methods[k], cms[l][size_t(k)].GlobalAccuracy(), cms[l][size_t(k)].AverageRecall());
+    }
+  }
+  SEMVOX_INFO("train: " << std::round(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count())
+                         << " s; models and train_report.json in " << args.outdir);
+  return WriteFileAtomic(args.outdir + "/train_report.json", report.dump(2) + "\n");
+}
+
+}  // namespace semvox
