@@ -1,7 +1,7 @@
 // Render throughput: the full view render (RGB, depth, normal, primitive id, voxel key) against a bare
 // rtcIntersect16 loop over the same Embree scene, camera and poses, in the same run.
 //
-//   render_bench [--faces N ...] [--rounds R] [--threads T] [--views-per-position K]
+//   render_bench [--faces N ...] [--rounds R] [--threads T] [--views-per-position K] [--size WxH]
 //
 // The mesh is the bundled demo apartment with its longest edges bisected until it has about N faces
 // (the nearer of the two refinement levels around N; default about 10 k and about 1 M). Poses: the automatic viewpoints of the demo apartment (render/views.h)
@@ -157,7 +157,7 @@ double Median(std::vector<double> v) {
 
 int Run(int argc, char** argv) {
   std::vector<size_t> targets;
-  int rounds = 5, threads = 2, yaws = 12;
+  int rounds = 5, threads = 2, yaws = 12, width = 640, height = 480;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
@@ -165,8 +165,9 @@ int Run(int argc, char** argv) {
     else if (a == "--rounds" && has_value) rounds = std::max(1, std::atoi(argv[++i]));
     else if (a == "--threads" && has_value) threads = std::max(1, std::atoi(argv[++i]));
     else if (a == "--views-per-position" && has_value) yaws = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--size" && has_value && std::sscanf(argv[++i], "%dx%d", &width, &height) == 2) continue;
     else {
-      std::fprintf(stderr, "usage: render_bench [--faces N ...] [--rounds R] [--threads T] [--views-per-position K]\n");
+      std::fprintf(stderr, "usage: render_bench [--faces N ...] [--rounds R] [--threads T] [--views-per-position K] [--size WxH]\n");
       return 2;
     }
   }
@@ -185,6 +186,8 @@ int Run(int argc, char** argv) {
     return 1;
   }
   ViewsOptions vo;
+  vo.width = width;
+  vo.height = height;
   double z = 0;
   const std::vector<Eigen::Vector3d> all = PlaceViewpoints(map.value(), vo, &z);
   std::vector<Eigen::Vector3d> positions;

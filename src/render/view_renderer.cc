@@ -98,7 +98,8 @@ Rgb8 ScalarColor(const ShadeContext& c, int32_t prim, float u, float v) {
 //   colour      Mesh::ColorAt (vertex colours interpolated inline), cloud colour or grey;
 //   misses      black, depth 0, normal 0, primitive -1, key {0,0,0}.
 __attribute__((target_clones("avx2", "default")))
-void ShadePacket(const ShadeContext& c, const RTCRayHit16& p, const int* valid, ShadedPacket* out) {
+void ShadePacket(const ShadeContext& c, const RTCRayHit16& __restrict p, const int* __restrict valid,
+                 ShadedPacket* __restrict out) {
   constexpr int n = 16;
   alignas(64) int32_t hit[n];  // 1 or 0.
   alignas(64) int32_t prim[n];
@@ -146,7 +147,9 @@ void ShadePacket(const ShadeContext& c, const RTCRayHit16& p, const int* valid, 
   const double inv = c.inv_voxel_size;
   const double tolerance = kBoundaryToleranceVoxels / inv;
   const auto key_index = [&](double coord) {
-    const double s = std::clamp(inv * (coord + tolerance), -kClamp, kClamp);
+    double s = inv * (coord + tolerance);
+    s = s < -kClamp ? -kClamp : s;  // Value selects (not std::clamp's references) so the loop vectorises.
+    s = s > kClamp ? kClamp : s;
     const int32_t i = int32_t(s);  // Truncation; floor below.
     return i - int32_t(s < double(i)) + int32_t(kKeyOffset);
   };
@@ -160,18 +163,19 @@ void ShadePacket(const ShadeContext& c, const RTCRayHit16& p, const int* valid, 
     out->ky[l] = ok ? out->ky[l] : 0;
     out->kz[l] = ok ? out->kz[l] : 0;
   }
-  for (int l = 0; l < n; ++l) {
+  for (int l = 0; l < n; ++l) {  // Branch-free: which side a face is seen from is as good as random.
     const float nx = p.hit.Ng_x[l], ny = p.hit.Ng_y[l], nz = p.hit.Ng_z[l];
     const float n2 = nx * nx + ny * ny + nz * nz;
     const float facing = nx * p.ray.dir_x[l] + ny * p.ray.dir_y[l] + nz * p.ray.dir_z[l];
-    const float inv_len = 1.0f / std::sqrt(std::max(n2, 1e-30f));
-    const float scale = hit[l] ? (facing > 0 ? -inv_len : inv_len) : 0.0f;
+    const float inv_len = 1.0f / std::sqrt(n2 > 1e-30f ? n2 : 1e-30f);
+    const float sign = facing > 0 ? -1.0f : 1.0f;         // Faces the camera.
+    const float scale = sign * inv_len * float(hit[l]);   // 0 on a miss.
     out->nx[l] = nx * scale;
     out->ny[l] = ny * scale;
     out->nz[l] = nz * scale;
-    out->depth[l] = hit[l] ? p.ray.tfar[l] : 0.0f;
-    out->primitive[l] = hit[l] ? prim[l] : -1;
+    out->depth[l] = p.ray.tfar[l] * float(hit[l]);
   }
+  for (int l = 0; l < n; ++l) out->primitive[l] = hit[l] ? prim[l] : -1;
   if (c.color_source == ColorSource::kVertex || c.color_source == ColorSource::kMaterial ||
       c.color_source == ColorSource::kGrey) {
     for (int l = 0; l < n; ++l)
