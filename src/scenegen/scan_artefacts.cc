@@ -105,7 +105,11 @@ Mesh ApplyScanArtefacts(const Apartment& apt, const ScanArtefactOptions& o) {
         // Walls, floors and ceilings are hidden by furniture only (not by other wall pieces, whose ends
         // they meet, nor by doors and windows set into them).
         if (is_structural && (part.structural || part.label == kDoor || part.label == kWindow)) continue;
-        if (InsideBox(part.box, centroid[f], o.hidden_margin_m)) {
+        // Hidden only when the whole face is: a large face (a mattress top) partly under a pillow stays.
+        if (InsideBox(part.box, centroid[f], o.hidden_margin_m) &&
+            InsideBox(part.box, in.vertices[size_t(in.faces[f][0])].cast<double>(), o.hidden_margin_m) &&
+            InsideBox(part.box, in.vertices[size_t(in.faces[f][1])].cast<double>(), o.hidden_margin_m) &&
+            InsideBox(part.box, in.vertices[size_t(in.faces[f][2])].cast<double>(), o.hidden_margin_m)) {
           keep[f] = 0;
           break;
         }
@@ -129,7 +133,8 @@ Mesh ApplyScanArtefacts(const Apartment& apt, const ScanArtefactOptions& o) {
     const size_t k = size_t(std::lower_bound(cum.begin(), cum.end(), t) - cum.begin());
     const Eigen::Vector3d centre = centroid[surf[std::min(k, surf.size() - 1)]];
     const double r = rng.Uniform(o.min_hole_radius_m, o.max_hole_radius_m);
-    for (size_t f = 0; f < nf; ++f)
+    // Walls and floors only: they are tessellated finely; furniture faces are whole box sides.
+    for (size_t f : surf)
       if ((centroid[f] - centre).squaredNorm() <= r * r) keep[f] = 0;
   }
 

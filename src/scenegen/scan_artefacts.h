@@ -18,8 +18,8 @@ namespace semvox {
 
 struct ScanArtefactOptions {
   uint64_t seed = 0;                       // Artefacts are drawn from this (the generator passes its own seed).
-  bool remove_hidden = true;               // Drop faces inside or against other solids (behind / under
-                                           // furniture, furniture backs against walls, inside walls).
+  bool remove_hidden = true;               // Drop faces wholly inside or against another solid (behind /
+                                           // under furniture, furniture backs against walls, inside walls).
   double hidden_margin_m = 0.015;          // A face is hidden when its centroid is within this of another solid. >= 0.
   double holes_per_m2 = 0.03;              // Holes per m² of wall and floor surface. >= 0.
   double min_hole_radius_m = 0.15;         // Hole radius drawn in [min, max], metres. > 0.
