@@ -90,6 +90,8 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, door_min_height_m, 0.5, 10, "lowest lintel underside above the floor, metres"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, lintel_ceiling_gap_m, 0, 5, "a lintel ends at least this far below the ceiling, metres"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, wall_min_height_m, 0.5, 10, "obstacles reaching this high are walls, not furniture, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, ceiling_step_m, 0, 5, "a ceiling height change this large between two ceiling zones is a room border, metres (0 = off)"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, ceiling_zone_min_area_m2, 0, 1000, "... when both zones cover this area, m2"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, clutter_max_area_m2, 0, 100, "2D maps: obstacle islands up to this area are furniture, m2"));
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, clutter_max_length_m, 0, 100, "2D maps: ... and up to this bounding-box diagonal, metres"));
     f.push_back(SEMVOX_INT_FIELD("rooms", floor_plan, free_threshold, 0, 254, "2D maps: grey values above this are free"));

@@ -11,10 +11,70 @@
 namespace semvox {
 namespace {
 
+// Deepest lintel: the thickest wall a door goes through, metres.
+constexpr double kMaxLintelDepthM = 0.5;
+
 std::string Violated(const char* field, double value, const std::string& constraint) {
   std::ostringstream os;
   os << field << " = " << value << ". Violated constraint: " << constraint;
   return os.str();
+}
+
+// Ceiling steps: the free cells split into ceiling zones, flooding between 4-neighbours whose ceiling
+// heights differ by less than ceiling_step_m (so a gentle slope stays one zone). Where two zones of at
+// least ceiling_zone_min_area_m2 meet, the cells along the step separate rooms like a door (a lamp or a
+// lintel makes a small zone and is ignored).
+void MarkCeilingSteps(const FloorPlanOptions& options, FloorPlan* plan) {
+  const int W = plan->width(), H = plan->height();
+  const float step = float(options.ceiling_step_m);
+  auto known = [&](int x, int y) {
+    return plan->at(x, y) == FloorCell::kFree && plan->ceiling_height_m.at(x, y) > 0;
+  };
+  std::vector<int> zone(size_t(W) * H, -1), area;
+  std::vector<int> stack;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      if (!known(x, y) || zone[size_t(y) * W + x] >= 0) continue;
+      const int z = int(area.size());
+      area.push_back(0);
+      stack.assign(1, y * W + x);
+      zone[size_t(y) * W + x] = z;
+      while (!stack.empty()) {
+        const int p = stack.back();
+        stack.pop_back();
+        ++area[z];
+        const int px = p % W, py = p / W;
+        const float h = plan->ceiling_height_m.at(px, py);
+        const int nx[4] = {px + 1, px - 1, px, px}, ny[4] = {py, py, py + 1, py - 1};
+        for (int k = 0; k < 4; ++k) {
+          if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H || !known(nx[k], ny[k])) continue;
+          int& zq = zone[size_t(ny[k]) * W + nx[k]];
+          if (zq >= 0 || std::fabs(plan->ceiling_height_m.at(nx[k], ny[k]) - h) >= step) continue;
+          zq = z;
+          stack.push_back(ny[k] * W + nx[k]);
+        }
+      }
+    }
+  const int min_cells = int(options.ceiling_zone_min_area_m2 / (plan->resolution_m * plan->resolution_m));
+  std::vector<int> steps;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const int z = zone[size_t(y) * W + x];
+      if (z < 0 || area[z] < min_cells) continue;
+      // The cell on the higher side of a step between two big zones.
+      const int nx[4] = {x + 1, x - 1, x, x}, ny[4] = {y, y, y + 1, y - 1};
+      for (int k = 0; k < 4; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
+        const int zq = zone[size_t(ny[k]) * W + nx[k]];
+        if (zq >= 0 && zq != z && area[zq] >= min_cells &&
+            plan->ceiling_height_m.at(x, y) > plan->ceiling_height_m.at(nx[k], ny[k])) {
+          steps.push_back(y * W + x);
+          break;
+        }
+      }
+    }
+  for (int p : steps) plan->cells.at(p % W, p / W) = uint8_t(FloorCell::kDoor);
+  plan->ceiling_step_cells = steps.size();
 }
 
 }  // namespace
@@ -35,6 +95,9 @@ bool FloorPlanOptions::Check(std::string* error) const {
     return *error = Violated("clutter_max_area_m2", clutter_max_area_m2, "clutter_max_area_m2 >= 0"), false;
   if (!(clutter_max_length_m >= 0))
     return *error = Violated("clutter_max_length_m", clutter_max_length_m, "clutter_max_length_m >= 0"), false;
+  if (!(ceiling_step_m >= 0)) return *error = Violated("ceiling_step_m", ceiling_step_m, "ceiling_step_m >= 0"), false;
+  if (!(ceiling_zone_min_area_m2 >= 0))
+    return *error = Violated("ceiling_zone_min_area_m2", ceiling_zone_min_area_m2, "ceiling_zone_min_area_m2 >= 0"), false;
   if (!(free_threshold >= 0 && free_threshold <= 254))
     return *error = Violated("free_threshold", free_threshold, "0 <= free_threshold <= 254"), false;
   return true;
@@ -91,23 +154,32 @@ FloorPlan FloorPlanFromVoxels(const VoxelGrid& grid, double floor_z, double ceil
       }
     }
 
-  // Door openings: free cells with a lintel above (occupied below the ceiling band) in a gap no wider
-  // than a door. The gap width is twice the distance to the nearest non-free cell.
-  cv::Mat1b free_mask(H, W, uchar(0));
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) free_mask(y, x) = plan.cells.at(x, y) == uint8_t(FloorCell::kFree) ? 255 : 0;
-  cv::Mat1f dist;
-  cv::distanceTransform(free_mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  const float max_half_width_px = float(0.5 * options.door_max_width_m / res);
-  // The first surface above the door height is a lintel when it lies clearly below the ceiling.
+  // Door openings: free cells with a lintel above (the first surface above the door height lies clearly
+  // below the ceiling) in a gap no wider than a door (twice the distance to the nearest non-free cell).
+  // A lintel is small: a connected patch of low ceiling larger than a door is a lowered ceiling instead.
+  cv::Mat1b free_mask(H, W, uchar(0)), low(H, W, uchar(0));
   const double lintel_top_m = top - options.lintel_ceiling_gap_m;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      if (!free_mask(y, x) || dist(y, x) > max_half_width_px) continue;
-      const double ceiling_h = plan.ceiling_height_m.at(x, y);
-      if (ceiling_h <= 0) continue;
-      if (ceiling_h < lintel_top_m) plan.cells.at(x, y) = uint8_t(FloorCell::kDoor);
+      free_mask(y, x) = plan.cells.at(x, y) == uint8_t(FloorCell::kFree) ? 255 : 0;
+      const double h = plan.ceiling_height_m.at(x, y);
+      low(y, x) = free_mask(y, x) && h > 0 && h < lintel_top_m ? 255 : 0;
     }
+  cv::Mat1f dist;
+  cv::distanceTransform(free_mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const float max_half_width_px = float(0.5 * options.door_max_width_m / res);
+  cv::Mat1i low_labels;
+  cv::Mat low_stats, low_centroids;
+  const int n_low = cv::connectedComponentsWithStats(low, low_labels, low_stats, low_centroids, 8, CV_32S);
+  const double max_lintel_cells = options.door_max_width_m * kMaxLintelDepthM / (res * res);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const int c = low_labels(y, x);
+      if (c > 0 && c < n_low && low_stats.at<int>(c, cv::CC_STAT_AREA) <= max_lintel_cells &&
+          dist(y, x) <= max_half_width_px)
+        plan.cells.at(x, y) = uint8_t(FloorCell::kDoor);
+    }
+  if (options.ceiling_step_m > 0) MarkCeilingSteps(options, &plan);
   return plan;
 }
 

@@ -7,7 +7,8 @@
 // or in a 2D map a small obstacle island), a wall, or unknown. Door openings are the 3D cue a 2D map
 // lacks: a free cell in a narrow gap (at most door_max_width_m across) with a lintel above it, i.e.
 // occupied voxels between door_min_height_m and just below the ceiling while the slab below is free.
-// The grid is the occupancy grid: pixel (x, y) with row 0 at the largest world y, origin = world
+// A ceiling step between two large ceiling zones (an open kitchen under a lowered ceiling) is a room
+// border too, the other 3D cue. The grid is the occupancy grid: pixel (x, y) with row 0 at the largest world y, origin = world
 // position of the lower-left corner of the lower-left pixel (map_server convention).
 #pragma once
 
@@ -24,7 +25,8 @@ namespace semvox {
 enum class FloorCell : uint8_t {
   kUnknown = 0,  // Never observed (outside the apartment, inside walls, under furniture).
   kFree = 1,     // Free floor in the mid-height slab.
-  kDoor = 2,     // Free floor in a door opening (under a lintel, between walls).
+  kDoor = 2,     // Free floor on a room border: a door opening (under a lintel, between walls) or a
+                 // ceiling step between two ceiling zones.
   kClutter = 3,  // Furniture: occupied in the slab but not a wall; belongs to the room around it.
   kWall = 4,     // Occupied from the slab up to the ceiling (or any obstacle of a 2D map).
 };
@@ -36,6 +38,7 @@ struct FloorPlan {
   double origin_x = 0;        // World position of the lower-left pixel's lower-left corner, metres.
   double origin_y = 0;
   double floor_z = 0;         // Metres, input frame (0 for 2D maps).
+  size_t ceiling_step_cells = 0;  // Door cells that mark a ceiling step rather than a lintel.
 
   int width() const { return cells.width; }
   int height() const { return cells.height; }
@@ -55,6 +58,9 @@ struct FloorPlanOptions {
   double lintel_ceiling_gap_m = 0.15;     // A lintel ends at least this far below the ceiling, metres. >= 0.
   double wall_min_height_m = 2.2;         // An obstacle reaching this high above the floor is wall (taller
                                           // than wardrobes and doors), metres. > 0.
+  double ceiling_step_m = 0.25;           // A ceiling height change this large between two ceiling zones is a
+                                          // room border, metres; 0 = off. >= 0.
+  double ceiling_zone_min_area_m2 = 2.0;  // ... when both zones cover this area (not a lamp or a lintel), m². >= 0.
   double clutter_max_area_m2 = 1.0;       // 2D maps: obstacle islands up to this area ... m². >= 0.
   double clutter_max_length_m = 1.0;      // ... and this bounding-box diagonal are clutter (furniture), not
                                           // wall fragments, metres. >= 0.

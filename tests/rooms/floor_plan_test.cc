@@ -73,6 +73,7 @@ TEST(FloorPlanFromVoxels, FindsWallsClutterDoorsAndCeilingHeight) {
     EXPECT_EQ(cell(61, iy), FloorCell::kDoor) << iy;
   }
   EXPECT_EQ(plan.Count(FloorCell::kDoor), 36u);
+  EXPECT_EQ(plan.ceiling_step_cells, 0u) << "a lamp and a lintel are not ceiling zones";
   EXPECT_NEAR(plan.ceiling_height_m.at(30, plan.height() - 1 - 30), ceiling_z - floor_z, 0.06);
   // Segmented: the two rooms, split at the door.
   const RoomSegmentation seg = SegmentRooms(plan, RoomSegmentationOptions());
@@ -81,6 +82,33 @@ TEST(FloorPlanFromVoxels, FindsWallsClutterDoorsAndCeilingHeight) {
   // The cabinet belongs to the left room's extent but has no id in room_ids.
   EXPECT_EQ(seg.room_ids.at(15, plan.height() - 1 - 15), 0);
   EXPECT_EQ(seg.room_extent_ids.at(15, plan.height() - 1 - 15), seg.room_ids.at(30, 30));
+}
+
+// One 6 m x 3 m space without an inner wall; the right half has a ceiling lowered from 2.5 m to 2.2 m.
+// The ceiling step is a room border; the lowered ceiling near the walls is not mistaken for lintels.
+TEST(FloorPlanFromVoxels, CeilingStepSeparatesRoomsLoweredCeilingIsNoDoor) {
+  VoxelRooms v(124, 64);
+  const double top = v.ceiling_m;
+  v.Box(1, 1, 123, 2, 0, top);
+  v.Box(1, 62, 123, 63, 0, top);
+  v.Box(1, 1, 2, 63, 0, top);
+  v.Box(122, 1, 123, 63, 0, top);
+  v.Box(62, 2, 122, 62, 2.2, top);  // Lowered ceiling over the right half.
+  const double floor_z = 0.05, ceiling_z = 2.5;
+  const OccupancyMap occ = ComputeOccupancy(v.grid, floor_z, OccupancyOptions());
+  FloorPlan plan = FloorPlanFromVoxels(v.grid, floor_z, ceiling_z, occ, FloorPlanOptions());
+  EXPECT_GT(plan.ceiling_step_cells, 50u);
+  EXPECT_EQ(plan.Count(FloorCell::kDoor), plan.ceiling_step_cells) << "no lintel doors under a lowered ceiling";
+  const int y = plan.height() - 1 - 30;
+  EXPECT_NEAR(plan.ceiling_height_m.at(100, y), 2.2 - floor_z, 0.06);
+  RoomSegmentation seg = SegmentRooms(plan, RoomSegmentationOptions());
+  EXPECT_EQ(seg.num_rooms, 2);
+  EXPECT_NE(seg.room_ids.at(30, y), seg.room_ids.at(100, y));
+  // With the cue off it is one room.
+  FloorPlanOptions off;
+  off.ceiling_step_m = 0;
+  plan = FloorPlanFromVoxels(v.grid, floor_z, ceiling_z, occ, off);
+  EXPECT_EQ(SegmentRooms(plan, RoomSegmentationOptions()).num_rooms, 1);
 }
 
 TEST(FloorPlanOptions, CheckNamesTheField) {
