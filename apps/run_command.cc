@@ -111,11 +111,13 @@ Status RunPipeline(const RunArgs& args) {
     progress.End();
     rooms_summary = {{"method", RoomSegmentationMethodName(config.rooms.method)},
                      {"rooms", rooms.num_rooms},
-                     {"door_cells", plan.Count(FloorCell::kDoor)},
+                     {"door_cells", plan.Count(FloorCell::kDoor) - plan.ceiling_step_cells},
+                     {"ceiling_step_cells", plan.ceiling_step_cells},
                      {"wall_cells", plan.Count(FloorCell::kWall)},
                      {"clutter_cells", plan.Count(FloorCell::kClutter)},
                      {"files", {"rooms.png", "rooms.geojson", "rooms.svg"}}};
-    SEMVOX_INFO("rooms: " << rooms.num_rooms << " (" << plan.Count(FloorCell::kDoor) << " door cells, "
+    SEMVOX_INFO("rooms: " << rooms.num_rooms << " (" << plan.Count(FloorCell::kDoor) - plan.ceiling_step_cells
+                          << " door cells, " << plan.ceiling_step_cells << " ceiling-step cells, "
                           << RoomSegmentationMethodName(config.rooms.method) << ")");
   }
   // ---- end rooms stage ----
