@@ -56,8 +56,9 @@ class MaxFlowGraph {
   // Sets the terminal capacities to zero and forgets the flow, leaving the arcs alone: for callers that
   // then set every edge with SetEdgeCapacities().
   void ResetTerminalCapacities();
-  // Forgets the flow only. For callers that then set every node with SetTerminalCapacities() and every
-  // edge with SetEdgeCapacities() (alpha-expansion does: one pass less over the nodes).
+  // Forgets the flow only. For callers that then set every node (SetTerminalCapacity/-ies) and every edge
+  // with SetEdgeCapacities(); alpha-expansion does (one pass less over the nodes). An edge whose two arcs
+  // were zero before Solve() carried no flow and is still zero after it, so it need not be set again.
   void ResetFlow() {
     flow_ = 0;
     solved_ = false;
