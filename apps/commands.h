@@ -102,6 +102,7 @@ struct TrainArgs {
   std::string train_seeds = "0-39";         // Generator seeds to train on ("A-B" or "A,B,...").
   std::string val_seeds = "100-109";        // Generator seeds to score on.
   int max_rows = 20000;                     // Rows kept per k-NN model (even stride), 0 = all.
+  int crf_holdout = 5;                      // Last training seeds kept out of the k-NN for CRF weight learning.
 };
 
 // `semvox train`: per-view classifiers (k-NN unaries, tree and union CRFs) from generated apartments.

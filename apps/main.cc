@@ -73,6 +73,7 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--train-seeds", train.train_seeds, "generator seeds to train on, e.g. 0-39 or 1,5,9");
   train_cmd->add_option("--val-seeds", train.val_seeds, "generator seeds to score on, e.g. 100-109");
   train_cmd->add_option("--max-rows", train.max_rows, "training rows kept per k-NN model, 0 = all")->check(CLI::NonNegativeNumber);
+  train_cmd->add_option("--crf-holdout", train.crf_holdout, "last training seeds used only to learn the CRF weights")->check(CLI::NonNegativeNumber);
   train_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
 
   semvox::RenderArgs render;

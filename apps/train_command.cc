@@ -1,9 +1,12 @@
 // `semvox train`: trains the per-view classifiers (issue 5) on generated training apartments, scores
 // them on the validation apartments and writes the model files and a report.
 //
-//   semvox train [-o models] [--train-seeds 0-39] [--val-seeds 100-109] [--max-rows 20000]
+//   semvox train [-o models] [--train-seeds 0-39] [--val-seeds 100-109] [--max-rows 20000] [--crf-holdout 5]
 //
-// Writes OUT/nyu4.{image_knn,full_knn}.bin, OUT/second.{image_knn,full_knn}.bin and OUT/train_report.json
+// The k-NN models learn from the training seeds but the last `crf-holdout` ones; the CRF weights are then
+// learned (negative log pseudo-likelihood) on those held-out seeds, whose k-NN unaries are not
+// self-matches. Writes OUT/{nyu4,second}.{image_knn,full_knn}.bin, OUT/{nyu4,second}.crf_weights.txt and
+// OUT/train_report.json
 // (per level and method: pixel-wise global accuracy, average recall and per-class recall on the
 // validation views). Deterministic: the same seeds give the same bytes.
 #include <nlohmann/json.hpp>
@@ -17,6 +20,7 @@
 #include "apps/commands.h"
 #include "core/file_util.h"
 #include "core/log.h"
+#include "perception/crf_learning.h"
 #include "perception/training_data.h"
 #include "perception/view_classifier.h"
 
@@ -94,6 +98,12 @@ Status RunTrain(const TrainArgs& args) {
   std::vector<TrainingSet> sets(levels.size());
   int train_views = 0;
   const auto t0 = std::chrono::steady_clock::now();
+  if (args.crf_holdout < 0 || size_t(args.crf_holdout) >= train_seeds.size())
+    return Status::InvalidInput("--crf-holdout = " + std::to_string(args.crf_holdout) +
+                                ". Violated constraint: 0 <= crf-holdout < number of training seeds (" +
+                                std::to_string(train_seeds.size()) + ")");
+  const std::vector<uint64_t> crf_seeds(train_seeds.end() - args.crf_holdout, train_seeds.end());
+  train_seeds.resize(train_seeds.size() - size_t(args.crf_holdout));
   for (uint64_t seed : train_seeds) {
     SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, views, [&](const LabelledView& v) {
       Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
@@ -110,6 +120,7 @@ Status RunTrain(const TrainArgs& args) {
   std::vector<ViewClassifier> classifiers;
   nlohmann::json report;
   report["train_seeds"] = args.train_seeds;
+  report["crf_holdout_seeds"] = crf_seeds;
   report["val_seeds"] = args.val_seeds;
   report["train_views"] = train_views;
   for (size_t l = 0; l < levels.size(); ++l) {
@@ -118,9 +129,43 @@ Status RunTrain(const TrainArgs& args) {
     Subsample(args.max_rows, &sets[l]);
     Result<ViewClassifier> clf = ViewClassifier::Train(sets[l], levels[l].num_classes(), options);
     if (!clf.ok()) return clf.status();
-    SEMVOX_RETURN_IF_ERROR(clf->Save(args.outdir + "/" + levels[l].name));
     classifiers.push_back(std::move(clf).value());
   }
+  // CRF weights on the held-out seeds.
+  std::vector<std::vector<CrfTrainingGraph>> tree_graphs(levels.size()), union_graphs(levels.size());
+  for (uint64_t seed : crf_seeds) {
+    SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, views, [&](const LabelledView& v) {
+      Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
+      if (!sp.ok()) return sp.status();
+      Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
+      if (!obs.ok()) return obs.status();
+      for (size_t l = 0; l < levels.size(); ++l) {
+        tree_graphs[l].emplace_back();
+        union_graphs[l].emplace_back();
+        SEMVOX_RETURN_IF_ERROR(classifiers[l].CrfTrainingGraphs(*sp, *obs, levels[l].Map(*v.nyu40), &tree_graphs[l].back(),
+                                                                &union_graphs[l].back()));
+      }
+      return Status::Ok();
+    }));
+  }
+  for (size_t l = 0; l < levels.size() && !crf_seeds.empty(); ++l) {
+    CrfLearningOptions tree_learning;
+    tree_learning.learn_distance_weight = false;  // Eq. 6 has no distance term.
+    CrfLearningSummary tree_summary, union_summary;
+    Result<ViewCrfOptions> tree = LearnCrfWeights(tree_graphs[l], options.crf, tree_learning, &tree_summary);
+    if (!tree.ok()) return tree.status();
+    Result<ViewCrfOptions> uni = LearnCrfWeights(union_graphs[l], options.union_crf, CrfLearningOptions{}, &union_summary);
+    if (!uni.ok()) return uni.status();
+    classifiers[l].SetCrfOptions(*tree, *uni);
+    nlohmann::json& j = report["levels"][levels[l].name]["crf_weights"];
+    j["tree"] = {{"unary", tree->unary_weight}, {"colour", tree->colour_weight},
+                 {"nlpl_initial", tree_summary.initial_nlpl}, {"nlpl_final", tree_summary.final_nlpl}};
+    j["union"] = {{"unary", uni->unary_weight}, {"colour", uni->colour_weight}, {"distance", uni->distance_weight},
+                  {"nlpl_initial", union_summary.initial_nlpl}, {"nlpl_final", union_summary.final_nlpl}};
+    SEMVOX_INFO("train: " << levels[l].name << " tree CRF weights w_u " << tree->unary_weight << " w_c " << tree->colour_weight
+                          << "; union w_u " << uni->unary_weight << " w_c " << uni->colour_weight << " w_d " << uni->distance_weight);
+  }
+  for (size_t l = 0; l < levels.size(); ++l) SEMVOX_RETURN_IF_ERROR(classifiers[l].Save(args.outdir + "/" + levels[l].name));
   // Validation: pixel-wise confusion per level and method.
   std::vector<std::array<ConfusionMatrix, 3>> cms;
   for (const LabelLevel& level : levels)

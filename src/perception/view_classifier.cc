@@ -1,6 +1,10 @@
 #include "perception/view_classifier.h"
 
+#include "core/file_util.h"
+
 #include <algorithm>
+#include <cstdio>
+#include <fstream>
 #include <cmath>
 #include <limits>
 
@@ -8,7 +12,7 @@ namespace semvox {
 
 bool ViewClassifierOptions::Check(std::string* error) const {
   if (!superpixels.Check(error) || !observations.Check(error) || !knn.Check(error) || !crf.Check(error) ||
-      !loopy.Check(error))
+      !union_crf.Check(error) || !loopy.Check(error))
     return false;
   if (!(min_label_purity > 0 && min_label_purity <= 1)) {
     if (error) *error = "min_label_purity = " + std::to_string(min_label_purity) + ". Violated constraint: 0 < min_label_purity <= 1";
@@ -17,12 +21,12 @@ bool ViewClassifierOptions::Check(std::string* error) const {
   return true;
 }
 
-void AddTrainingSuperpixels(const Superpixels& superpixels, const ViewObservations& observations,
-                            const Image<int32_t>& pixel_classes, double min_label_purity, TrainingSet* set) {
-  // Majority class per superpixel.
+std::vector<int> SuperpixelClasses(const Superpixels& superpixels, const Image<int32_t>& pixel_classes,
+                                   double min_label_purity) {
+  std::vector<int> out(static_cast<size_t>(superpixels.count), -1);
   int num_classes = 0;
   for (int32_t c : pixel_classes.data) num_classes = std::max(num_classes, c + 1);
-  if (num_classes == 0) return;
+  if (num_classes == 0) return out;
   std::vector<int> votes(size_t(superpixels.count) * size_t(num_classes), 0);
   for (size_t k = 0; k < pixel_classes.data.size(); ++k)
     if (pixel_classes.data[k] >= 0) ++votes[size_t(superpixels.label.data[k]) * size_t(num_classes) + size_t(pixel_classes.data[k])];
@@ -31,7 +35,17 @@ void AddTrainingSuperpixels(const Superpixels& superpixels, const ViewObservatio
     int total = 0;
     for (int c = 0; c < num_classes; ++c) total += row[c];
     const int best = int(std::max_element(row, row + num_classes) - row);
-    if (total == 0 || row[best] < min_label_purity * total) continue;
+    if (total > 0 && row[best] >= min_label_purity * total) out[size_t(s)] = best;
+  }
+  return out;
+}
+
+void AddTrainingSuperpixels(const Superpixels& superpixels, const ViewObservations& observations,
+                            const Image<int32_t>& pixel_classes, double min_label_purity, TrainingSet* set) {
+  const std::vector<int> classes = SuperpixelClasses(superpixels, pixel_classes, min_label_purity);
+  for (int s = 0; s < superpixels.count; ++s) {
+    const int best = classes[size_t(s)];
+    if (best < 0) continue;
     const SuperpixelObservation& o = observations.superpixels[size_t(s)];
     set->image_features.insert(set->image_features.end(), o.z.begin(), o.z.begin() + kImageObservationDims);
     set->image_labels.push_back(best);
@@ -97,7 +111,7 @@ Result<ViewClassification> ViewClassifier::Classify(Superpixels superpixels, Vie
   SEMVOX_RETURN_IF_ERROR(TreeSumProduct(*tree, &out.tree_marginals));
   SEMVOX_RETURN_IF_ERROR(TreeMaxProduct(*tree, &out.tree_labels));
   // Union-coverage CRF: f2 with depth, f1 without; g1 everywhere, g2 on 3D edges; loopy BP.
-  Result<PairwiseModel> uni = BuildViewCrf(out.observations, BuildUnionCoverageGraph(out.observations), f2, f1, true, options_.crf);
+  Result<PairwiseModel> uni = BuildViewCrf(out.observations, BuildUnionCoverageGraph(out.observations), f2, f1, true, options_.union_crf);
   if (!uni.ok()) return uni.status();
   SEMVOX_RETURN_IF_ERROR(LoopyBeliefPropagation(*uni, options_.loopy, &out.union_marginals, &out.union_bp));
   out.union_labels = DecodeMaxMarginals(out.union_marginals);
@@ -106,7 +120,12 @@ Result<ViewClassification> ViewClassifier::Classify(Superpixels superpixels, Vie
 
 Status ViewClassifier::Save(const std::string& prefix) const {
   SEMVOX_RETURN_IF_ERROR(image_knn_.Save(prefix + ".image_knn.bin"));
-  return full_knn_.Save(prefix + ".full_knn.bin");
+  SEMVOX_RETURN_IF_ERROR(full_knn_.Save(prefix + ".full_knn.bin"));
+  char text[256];
+  std::snprintf(text, sizeof(text), "tree %.17g %.17g\nunion %.17g %.17g %.17g\n", options_.crf.unary_weight,
+                options_.crf.colour_weight, options_.union_crf.unary_weight, options_.union_crf.colour_weight,
+                options_.union_crf.distance_weight);
+  return WriteFileAtomic(prefix + ".crf_weights.txt", text);
 }
 
 Result<ViewClassifier> ViewClassifier::Load(const std::string& prefix, const ViewClassifierOptions& options) {
@@ -118,7 +137,38 @@ Result<ViewClassifier> ViewClassifier::Load(const std::string& prefix, const Vie
   if (!full.ok()) return full.status();
   if (image->dims() != kImageObservationDims || full->dims() != kObservationDims || image->num_classes() != full->num_classes())
     return Status::InvalidInput(FileError(prefix, "k-NN models do not match (dimensions or classes)", "re-run `semvox train`"));
-  return ViewClassifier(std::move(image).value(), std::move(full).value(), options);
+  ViewClassifierOptions effective = options;
+  std::ifstream weights(prefix + ".crf_weights.txt");
+  if (weights) {
+    std::string tree_tag, union_tag;
+    ViewCrfOptions tree = options.crf, uni = options.union_crf;
+    if (!(weights >> tree_tag >> tree.unary_weight >> tree.colour_weight >> union_tag >> uni.unary_weight >>
+          uni.colour_weight >> uni.distance_weight) || tree_tag != "tree" || union_tag != "union" ||
+        !tree.Check(nullptr) || !uni.Check(nullptr))
+      return Status::InvalidInput(FileError(prefix + ".crf_weights.txt", "expected 'tree W_U W_C' and 'union W_U W_C W_D' with weights >= 0",
+                                            "re-run `semvox train`"));
+    effective.crf = tree;
+    effective.union_crf = uni;
+  }
+  return ViewClassifier(std::move(image).value(), std::move(full).value(), effective);
+}
+
+Status ViewClassifier::CrfTrainingGraphs(const Superpixels& superpixels, const ViewObservations& observations,
+                                         const Image<int32_t>& pixel_classes, CrfTrainingGraph* tree,
+                                         CrfTrainingGraph* union_graph) const {
+  const size_t n = observations.superpixels.size();
+  if (int(n) != superpixels.count) return Status::InvalidInput("CRF training graphs: observations do not match the superpixels");
+  std::vector<std::vector<double>> f1(n), f2(n), f(n);
+  for (size_t s = 0; s < n; ++s) {
+    const SuperpixelObservation& o = observations.superpixels[s];
+    f1[s] = image_knn_.Probabilities({o.z.data(), size_t(kImageObservationDims)});
+    f2[s] = o.has_depth ? full_knn_.Probabilities({o.z.data(), size_t(kObservationDims)}) : f1[s];
+    f[s] = f2[s];
+  }
+  const std::vector<int> labels = SuperpixelClasses(superpixels, pixel_classes, options_.min_label_purity);
+  *tree = MakeCrfTrainingGraph(observations, BuildTreeGraph(observations), f, {}, false, options_.crf, labels);
+  *union_graph = MakeCrfTrainingGraph(observations, BuildUnionCoverageGraph(observations), f2, f1, true, options_.union_crf, labels);
+  return Status::Ok();
 }
 
 void ConfusionMatrix::AddImages(const Image<int32_t>& truth, const Image<int32_t>& predicted) {

@@ -15,6 +15,7 @@
 #include "core/image.h"
 #include "core/status.h"
 #include "perception/belief_propagation.h"
+#include "perception/crf_learning.h"
 #include "perception/knn_unary.h"
 #include "perception/observations.h"
 #include "perception/superpixels.h"
@@ -27,7 +28,8 @@ struct ViewClassifierOptions {
   SuperpixelOptions superpixels;
   ObservationOptions observations;
   KnnOptions knn;
-  ViewCrfOptions crf;
+  ViewCrfOptions crf;        // Tree CRF (its distance_weight is unused: Eq. 6 is colour only).
+  ViewCrfOptions union_crf;  // Union-coverage CRF.
   LoopyBpOptions loopy;
   // A training superpixel takes the majority class of its labelled pixels when that class covers at
   // least this fraction of them; otherwise it is not used. (0, 1].
@@ -43,6 +45,11 @@ struct TrainingSet {
   std::vector<float> full_features;   // kObservationDims per row (superpixels with depth only).
   std::vector<int> full_labels;
 };
+
+// Class of every superpixel: the majority class of its pixels (`pixel_classes`, -1 = ignore) when that
+// class holds at least `min_label_purity` of them, else -1.
+std::vector<int> SuperpixelClasses(const Superpixels& superpixels, const Image<int32_t>& pixel_classes,
+                                   double min_label_purity);
 
 // Adds the superpixels of an already segmented view: each takes the majority class of its pixels
 // (`pixel_classes`, -1 = ignore) when that class holds at least `min_label_purity` of them.
@@ -72,9 +79,20 @@ class ViewClassifier {
   // The same from an already segmented view (one segmentation shared by classifiers of two label levels).
   Result<ViewClassification> Classify(Superpixels superpixels, ViewObservations observations) const;
 
+  // The tree and union CRF features of a segmented, labelled view under this classifier's k-NN unaries,
+  // for LearnCrfWeights (crf_learning.h).
+  Status CrfTrainingGraphs(const Superpixels& superpixels, const ViewObservations& observations,
+                           const Image<int32_t>& pixel_classes, CrfTrainingGraph* tree, CrfTrainingGraph* union_graph) const;
+  // Replaces the CRF weights (after learning).
+  void SetCrfOptions(const ViewCrfOptions& tree, const ViewCrfOptions& union_crf) {
+    options_.crf = tree;
+    options_.union_crf = union_crf;
+  }
+
   int num_classes() const { return image_knn_.num_classes(); }
   const ViewClassifierOptions& options() const { return options_; }
-  // PREFIX.image_knn.bin and PREFIX.full_knn.bin (the CRF options are configuration, not model).
+  // PREFIX.image_knn.bin, PREFIX.full_knn.bin and PREFIX.crf_weights.txt (tree w_u w_c; union w_u w_c
+  // w_d). Load keeps `options`' weights when the weights file is absent.
   Status Save(const std::string& prefix) const;
   static Result<ViewClassifier> Load(const std::string& prefix, const ViewClassifierOptions& options);
 
