@@ -62,6 +62,37 @@ TEST(ViewClassifier, Nyu4AccuracyOnAValidationApartmentAboveFloor) {
   EXPECT_GT(uni.GlobalAccuracy(), kUnionGlobalFloor);
 }
 
+TEST(ViewClassifier, SaveLoadKeepsTheKnnModelsAndTheCrfWeights) {
+  const LabelLevel level = Nyu4Level();
+  ViewClassifierOptions options;
+  TrainingSet set;
+  RenderedView first;
+  ASSERT_TRUE(ForEachApartmentView(0, TrainingViewsOptions{}, [&](const LabelledView& v) {
+                if (first.rgb.empty()) first = *v.view;
+                return AddTrainingView(*v.view, level.Map(*v.nyu40), options, &set);
+              }).ok());
+  Result<ViewClassifier> clf = ViewClassifier::Train(set, level.num_classes(), options);
+  ASSERT_TRUE(clf.ok());
+  ViewCrfOptions tree, uni;
+  tree.unary_weight = 0.4;
+  tree.colour_weight = 3.25;
+  uni.distance_weight = 4.5;
+  clf->SetCrfOptions(tree, uni);
+  const std::string prefix = ::testing::TempDir() + "/view_classifier_roundtrip";
+  ASSERT_TRUE(clf->Save(prefix).ok());
+  Result<ViewClassifier> loaded = ViewClassifier::Load(prefix, ViewClassifierOptions{});
+  ASSERT_TRUE(loaded.ok()) << loaded.status().message();
+  EXPECT_EQ(loaded->options().crf.unary_weight, 0.4);
+  EXPECT_EQ(loaded->options().crf.colour_weight, 3.25);
+  EXPECT_EQ(loaded->options().union_crf.distance_weight, 4.5);
+  Result<ViewClassification> a = clf->Classify(first), b = loaded->Classify(first);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a->knn_labels, b->knn_labels);
+  EXPECT_EQ(a->tree_labels, b->tree_labels);
+  EXPECT_EQ(a->union_labels, b->union_labels);
+  for (const char* suffix : {".image_knn.bin", ".full_knn.bin", ".crf_weights.txt"}) std::remove((prefix + suffix).c_str());
+}
+
 TEST(LabelLevels, Nyu4AndSecondLevelMapTheNamedIds) {
   const LabelLevel nyu4 = Nyu4Level();
   EXPECT_EQ(nyu4.num_classes(), 4);
