@@ -217,11 +217,14 @@ Result<ViewSet> RenderViews(const ViewRenderer& renderer, const VoxelMap& map, c
   set.camera = options.Camera();
   set.voxel_size_m = map.grid.resolution();
   set.positions = PlaceViewpoints(map, options, &set.view_z);
-  if (set.positions.empty())
-    return Status::InvalidInput("views: no free voxel at camera height z = " + std::to_string(set.view_z) + " is " +
-                                std::to_string(options.wall_clearance_m) +
-                                " m from the nearest non-free voxel (hint: lower render.wall_clearance_m, or check "
-                                "that the scene is an enclosed interior)");
+  if (set.positions.empty()) {
+    // Degraded scans (a single plane, no free space) still get their other outputs: no views, a warning.
+    SEMVOX_WARN("views: no free voxel at camera height z = " << set.view_z << " is " << options.wall_clearance_m
+                << " m from the nearest non-free voxel; no views rendered (lower render.wall_clearance_m, or check "
+                   "that the scene is an enclosed interior)");
+    set.voxel_seen.assign(map.grid.size(), 0);
+    return set;
+  }
   // (pitch, yaw step) of each ring: the main ring first, then the tilted ones.
   std::vector<std::pair<double, double>> rings{{options.pitch_deg, options.yaw_step_deg}};
   if (options.tilted_ring_deg > 0) {
