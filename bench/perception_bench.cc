@@ -2,7 +2,7 @@
 // the two k-NN unaries, the tree CRF (exact sum-product + max-product) and the union CRF (loopy BP), on
 // one core (OpenCV limited to one thread). Not a test: prints a table.
 //
-//   perception_bench [--width 640] [--height 480] [--train-seeds 2] [--val-seed 100]
+//   perception_bench [--width 640] [--height 480] [--train-seeds 2] [--val-seed 100] [--slic-iterations 10]
 //
 // The classifier is trained first (not timed) on generated apartments at the same resolution.
 #include <opencv2/core.hpp>
@@ -26,13 +26,14 @@ double CpuMs() { return 1000.0 * double(std::clock()) / CLOCKS_PER_SEC; }
 }  // namespace
 
 int main(int argc, char** argv) {
-  int width = 640, height = 480, train_seeds = 2;
+  int width = 640, height = 480, train_seeds = 2, slic_iterations = SuperpixelOptions{}.iterations;
   uint64_t val_seed = 100;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--width")) width = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--height")) height = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--train-seeds")) train_seeds = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--val-seed")) val_seed = std::strtoull(argv[i + 1], nullptr, 10);
+    else if (!std::strcmp(argv[i], "--slic-iterations")) slic_iterations = std::atoi(argv[i + 1]);
     else {
       std::fprintf(stderr, "perception_bench: unknown option %s\n", argv[i]);
       return 2;
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
   cv::setNumThreads(1);
   const LabelLevel level = Nyu4Level();
   ViewClassifierOptions options;
+  options.superpixels.iterations = slic_iterations;
   TrainingViewsOptions views;
   views.width = width;
   views.height = height;
@@ -103,6 +105,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "perception_bench: %s\n", st.ok() ? "no validation view" : st.message().c_str());
     return 1;
   }
+  std::printf("SLIC iterations %d\n", slic_iterations);
   std::printf("%dx%d, %d views of seed %llu, %.0f superpixels/view, %zu training rows (image+3D), one core\n", width,
               height, n_views, (unsigned long long)val_seed, double(superpixels) / n_views, set.full_labels.size());
   const char* names[5] = {"superpixels (SLIC)", "observations (15-D)", "k-NN unaries (f1, f2)", "tree CRF (sum+max)", "union CRF (loopy)"};
