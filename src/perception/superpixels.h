@@ -20,8 +20,9 @@ struct SuperpixelOptions {
   int region_size_px = 20;
   // SLIC compactness: weight of the spatial term against LAB colour distance. > 0.
   double compactness = 10.0;
-  // SLIC k-means iterations. [1, 100].
-  int iterations = 10;
+  // SLIC k-means iterations. [1, 100]. 4 keeps a 640x480 view under 150 ms from superpixels to tree BP
+  // (perception_bench: SLIC 79 ms at 4 iterations, 184 ms at 10, NYU-4 accuracy unchanged).
+  int iterations = 4;
   // Segments smaller than this percentage of the average superpixel area are merged into a neighbour
   // (connectivity enforcement). [0, 100].
   int min_element_size_percent = 25;
