@@ -7,8 +7,6 @@
 #include <atomic>
 #include <cmath>
 
-#include <limits>
-
 #include "mapping/ray_traversal.h"
 
 namespace semvox {
@@ -80,63 +78,24 @@ FrameUpdate IntegrateFrame(const Eigen::Vector3f& origin, const std::vector<Eige
     return (size_t(kz - lo[2]) * dim[1] + size_t(ky - lo[1])) * dim[0] + size_t(kx - lo[0]);
   };
 
-  // 2. Rays in parallel; each thread ORs bits into the shared bitmap. The traversal is TraverseKeys's
-  // (OctoMap's computeRayKeys) arithmetic with the bitmap index carried along incrementally.
-  const int64_t stride[3] = {1, dim[0], dim[0] * dim[1]};
-  auto mark_free = [&](size_t idx) {
-    uint8_t& cell = bits[idx];
-    if (!(std::atomic_ref<uint8_t>(cell).load(std::memory_order_relaxed) & kFreeBit))
-      std::atomic_ref<uint8_t>(cell).fetch_or(kFreeBit, std::memory_order_relaxed);
-  };
-  int64_t ko[3];
-  for (int i = 0; i < 3; ++i) ko[i] = key_of(origin[i]);
-  const bool origin_ok = KeyIndexInRange(ko[0]) && KeyIndexInRange(ko[1]) && KeyIndexInRange(ko[2]);
+  // 2. Rays in parallel; each thread ORs bits into the shared bitmap (a grid whose first cell has key lo).
+  const int grid_key[3] = {int(lo[0]), int(lo[1]), int(lo[2])};
+  const int grid_dims[3] = {int(dim[0]), int(dim[1]), int(dim[2])};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t j = r.begin(); j != r.end(); ++j) {
       const Eigen::Vector3f& e = ends[j];
-      int64_t ke[3];
-      for (int i = 0; i < 3; ++i) ke[i] = key_of(e[i]);
-      const bool end_ok = KeyIndexInRange(ke[0]) && KeyIndexInRange(ke[1]) && KeyIndexInRange(ke[2]);
-      if (in_range[j] && end_ok)
-        std::atomic_ref<uint8_t>(bits[index(ke[0], ke[1], ke[2])]).fetch_or(kOccupiedBit, std::memory_order_relaxed);
-      if (!origin_ok || !end_ok) continue;  // computeRayKeys fails: no free cells.
-      if (ko[0] == ke[0] && ko[1] == ke[1] && ko[2] == ke[2]) continue;
-      size_t idx = index(ko[0], ko[1], ko[2]);
-      const size_t end_idx = index(ke[0], ke[1], ke[2]);
-      mark_free(idx);
-      float direction[3] = {e[0] - origin[0], e[1] - origin[1], e[2] - origin[2]};
-      const float norm_sq = direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2];
-      const float length = float(std::sqrt(double(norm_sq)));
-      for (float& d : direction) d /= length;
-      int step[3];
-      int64_t cur[3] = {ko[0], ko[1], ko[2]};
-      int64_t step_idx[3];
-      double t_max[3], t_delta[3];
-      for (int i = 0; i < 3; ++i) {
-        step[i] = direction[i] > 0.0f ? 1 : (direction[i] < 0.0f ? -1 : 0);
-        step_idx[i] = step[i] * stride[i];
-        if (step[i] != 0) {
-          double border = (double(cur[i] - kKeyOffset) + 0.5) * resolution;
-          border += float(step[i] * resolution * 0.5);
-          t_max[i] = (border - origin[i]) / direction[i];
-          t_delta[i] = resolution / std::fabs(direction[i]);
-        } else {
-          t_max[i] = std::numeric_limits<double>::max();
-          t_delta[i] = std::numeric_limits<double>::max();
-        }
-      }
-      while (true) {
-        int d;
-        if (t_max[0] < t_max[1]) d = t_max[0] < t_max[2] ? 0 : 2;
-        else d = t_max[1] < t_max[2] ? 1 : 2;
-        cur[d] += step[d];
-        idx += step_idx[d];
-        t_max[d] += t_delta[d];
-        if (cur[d] < lo[d] || cur[d] >= lo[d] + dim[d]) break;  // Never happens with the 2-cell margin.
-        if (idx == end_idx) break;
-        if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) break;  // Overshoot, as in OctoMap.
-        mark_free(idx);
-      }
+      const int64_t kx = key_of(e[0]), ky = key_of(e[1]), kz = key_of(e[2]);
+      // computeRayKeys gives nothing for an end outside the key range; the end voxel is occupied only when
+      // the end point was within range.
+      if (!(KeyIndexInRange(kx) && KeyIndexInRange(ky) && KeyIndexInRange(kz))) continue;
+      if (in_range[j])
+        std::atomic_ref<uint8_t>(bits[index(kx, ky, kz)]).fetch_or(kOccupiedBit, std::memory_order_relaxed);
+      TraverseGrid(origin, e, resolution, grid_key, grid_dims, [&](size_t idx) {
+        uint8_t& cell = bits[idx];
+        if (!(std::atomic_ref<uint8_t>(cell).load(std::memory_order_relaxed) & kFreeBit))
+          std::atomic_ref<uint8_t>(cell).fetch_or(kFreeBit, std::memory_order_relaxed);
+        return true;
+      });
     }
   });
 

@@ -1,9 +1,9 @@
 // Voxel traversal along a segment (Amanatides & Woo 1987), in OctoMap key space.
 //
-// TraverseKeys visits the same keys, in the same order, as octomap::OcTreeBaseImpl::computeRayKeys
+// TraverseGrid visits the same keys, in the same order, as octomap::OcTreeBaseImpl::computeRayKeys
 // (OctoMap 1.9): the origin's key first, then every key the segment crosses, excluding the end point's
-// key; it mirrors OctoMap's float/double arithmetic so the key sets are identical, which the
-// benchmark checks.
+// key; it mirrors OctoMap's float/double arithmetic so the key sets are identical, which
+// bench/voxelize_bench checks on every run.
 #pragma once
 
 #include <Eigen/Core>
@@ -15,60 +15,9 @@
 
 namespace semvox {
 
-// visit(int64 kx, int64 ky, int64 kz) -> bool: return false to stop early. Returns false when the origin
-// or the end is outside the key range (as computeRayKeys does), true otherwise.
-template <typename Visit>
-bool TraverseKeys(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, double resolution, Visit&& visit) {
-  const double inv = 1.0 / resolution;
-  int64_t ko[3], ke[3];
-  for (int i = 0; i < 3; ++i) {
-    ko[i] = int64_t(std::floor(origin[i] * inv)) + kKeyOffset;
-    ke[i] = int64_t(std::floor(end[i] * inv)) + kKeyOffset;
-    if (!KeyIndexInRange(ko[i]) || !KeyIndexInRange(ke[i])) return false;
-  }
-  if (ko[0] == ke[0] && ko[1] == ke[1] && ko[2] == ke[2]) return true;
-  if (!visit(ko[0], ko[1], ko[2])) return true;
-  float direction[3] = {end[0] - origin[0], end[1] - origin[1], end[2] - origin[2]};
-  const float norm_sq = direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2];
-  const float length = float(std::sqrt(double(norm_sq)));
-  for (float& d : direction) d /= length;
-  int step[3];
-  double t_max[3], t_delta[3];
-  int64_t cur[3] = {ko[0], ko[1], ko[2]};
-  for (int i = 0; i < 3; ++i) {
-    step[i] = direction[i] > 0.0f ? 1 : (direction[i] < 0.0f ? -1 : 0);
-    if (step[i] != 0) {
-      double border = (double(cur[i] - kKeyOffset) + 0.5) * resolution;
-      border += float(step[i] * resolution * 0.5);
-      t_max[i] = (border - origin[i]) / direction[i];
-      t_delta[i] = resolution / std::fabs(direction[i]);
-    } else {
-      t_max[i] = std::numeric_limits<double>::max();
-      t_delta[i] = std::numeric_limits<double>::max();
-    }
-  }
-  while (true) {
-    int dim;
-    if (t_max[0] < t_max[1]) dim = t_max[0] < t_max[2] ? 0 : 2;
-    else dim = t_max[1] < t_max[2] ? 1 : 2;
-    cur[dim] += step[dim];
-    t_max[dim] += t_delta[dim];
-    if (cur[0] == ke[0] && cur[1] == ke[1] && cur[2] == ke[2]) break;
-    const double dist = std::min(std::min(t_max[0], t_max[1]), t_max[2]);
-    if (dist > length) break;  // Numerical overshoot, as in OctoMap.
-    if (!KeyIndexInRange(cur[dim])) break;
-    if (!visit(cur[0], cur[1], cur[2])) break;
-  }
-  return true;
-}
-
-}  // namespace semvox
-
-namespace semvox {
-
-// The same traversal over a dense grid whose first cell has key `grid_origin_key` and whose size is
+// The traversal over a dense grid whose first cell has key `grid_origin_key` and whose size is
 // `dims`: visit(size_t index) receives the linear index (x fastest) of each cell, origin cell first, end
-// cell excluded, and stops at the grid's boundary. Cheaper than TraverseKeys per step (the index is
+// cell excluded, and stops at the grid's boundary. Cheap per step (the index is
 // carried along). Returns false when the origin is outside the grid.
 template <typename Visit>
 bool TraverseGrid(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, double resolution,

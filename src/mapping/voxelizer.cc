@@ -121,15 +121,13 @@ double DistanceToOccupied(const VoxelGrid& grid, const Eigen::Vector3d& from, co
   const Eigen::Vector3f o = from.cast<float>();
   const Eigen::Vector3f e = (from + dir * range).cast<float>();
   double hit = -1;
-  const auto& ok = grid.origin_key();
-  TraverseKeys(o, e, grid.resolution(), [&](int64_t kx, int64_t ky, int64_t kz) {
-    const int ix = int(kx - ok[0]), iy = int(ky - ok[1]), iz = int(kz - ok[2]);
-    if (!grid.Contains(ix, iy, iz)) return false;
-    if (grid.state(grid.Index(ix, iy, iz)) == VoxelState::kOccupied) {
-      hit = (grid.CellCenter(ix, iy, iz) - from).norm();
-      return false;
-    }
-    return true;
+  const int okey[3] = {grid.origin_key()[0], grid.origin_key()[1], grid.origin_key()[2]};
+  const int dims[3] = {grid.dims()[0], grid.dims()[1], grid.dims()[2]};
+  TraverseGrid(o, e, grid.resolution(), okey, dims, [&](size_t idx) {
+    if (grid.state(idx) != VoxelState::kOccupied) return true;
+    const auto c = grid.Cell(idx);
+    hit = (grid.CellCenter(c[0], c[1], c[2]) - from).norm();
+    return false;
   });
   return hit;
 }
