@@ -11,6 +11,7 @@
 // validation views). Deterministic: the same seeds give the same bytes.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "core/file_util.h"
 #include "core/log.h"
 #include "perception/crf_learning.h"
+#include "perception/room_evidence.h"
 #include "perception/training_data.h"
 #include "perception/view_classifier.h"
 
@@ -83,6 +85,18 @@ nlohmann::json Scores(const ConfusionMatrix& cm, const LabelLevel& level) {
   return j;
 }
 
+// A view whose pixels are less than this fraction furniture or props holds too little evidence of its
+// room type: its distribution goes to "other".
+constexpr double kMinObjectFraction = 0.02;
+
+// Second-level classes that say something about the room (not wall, floor, ceiling, window, door).
+std::vector<bool> ObjectClasses(const LabelLevel& level) {
+  std::vector<bool> out;
+  for (const std::string& name : level.class_names)
+    out.push_back(name != "wall" && name != "floor" && name != "ceiling" && name != "window" && name != "door");
+  return out;
+}
+
 }  // namespace
 
 Status RunTrain(const TrainArgs& args) {
@@ -97,6 +111,16 @@ Status RunTrain(const TrainArgs& args) {
   TrainingViewsOptions views;
   std::vector<TrainingSet> sets(levels.size());
   int train_views = 0;
+  // Room-type evidence: descriptors from the ground-truth second-level classes of every training view.
+  const LabelLevel& room_level = levels[1];
+  std::vector<float> room_rows;
+  std::vector<int> room_labels;
+  auto add_room_row = [&](const LabelledView& v) {
+    if (v.room_type < 1 || v.room_type > kNumRoomTypeClasses) return;
+    const std::vector<float> d = RoomViewDescriptor(*v.view, room_level.Map(*v.nyu40), room_level.num_classes());
+    room_rows.insert(room_rows.end(), d.begin(), d.end());
+    room_labels.push_back(v.room_type - 1);
+  };
   const auto t0 = std::chrono::steady_clock::now();
   if (args.crf_holdout < 0 || size_t(args.crf_holdout) >= train_seeds.size())
     return Status::InvalidInput("--crf-holdout = " + std::to_string(args.crf_holdout) +
@@ -112,6 +136,7 @@ Status RunTrain(const TrainArgs& args) {
       if (!obs.ok()) return obs.status();
       for (size_t l = 0; l < levels.size(); ++l)
         AddTrainingSuperpixels(*sp, *obs, levels[l].Map(*v.nyu40), options.min_label_purity, &sets[l]);
+      add_room_row(v);
       ++train_views;
       return Status::Ok();
     }));
@@ -145,6 +170,7 @@ Status RunTrain(const TrainArgs& args) {
         SEMVOX_RETURN_IF_ERROR(classifiers[l].CrfTrainingGraphs(*sp, *obs, levels[l].Map(*v.nyu40), &tree_graphs[l].back(),
                                                                 &union_graphs[l].back()));
       }
+      add_room_row(v);
       return Status::Ok();
     }));
   }
@@ -166,6 +192,13 @@ Status RunTrain(const TrainArgs& args) {
                           << "; union w_u " << uni->unary_weight << " w_c " << uni->colour_weight << " w_d " << uni->distance_weight);
   }
   for (size_t l = 0; l < levels.size(); ++l) SEMVOX_RETURN_IF_ERROR(classifiers[l].Save(args.outdir + "/" + levels[l].name));
+  Result<KnnClassifier> room_knn = KnnClassifier::Train(room_rows, RoomDescriptorDims(room_level.num_classes()), room_labels,
+                                                        kNumRoomTypeClasses, KnnOptions{});
+  if (!room_knn.ok()) return Status::InvalidInput("room-type k-NN: " + room_knn.status().message());
+  SEMVOX_RETURN_IF_ERROR(room_knn->Save(args.outdir + "/room_type_knn.bin"));
+  report["room_type"]["train_views"] = room_labels.size();
+  const std::vector<bool> object_classes = ObjectClasses(room_level);
+  int room_correct = 0, room_views = 0, room_other = 0;
   // Validation: pixel-wise confusion per level and method.
   std::vector<std::array<ConfusionMatrix, 3>> cms;
   for (const LabelLevel& level : levels)
@@ -184,12 +217,28 @@ Status RunTrain(const TrainArgs& args) {
         cms[l][0].AddImages(truth, PixelLabels(c->superpixels, c->knn_labels));
         cms[l][1].AddImages(truth, PixelLabels(c->superpixels, c->tree_labels));
         cms[l][2].AddImages(truth, PixelLabels(c->superpixels, c->union_labels));
+        if (l == 1 && v.room_type >= 1 && v.room_type <= kNumRoomTypeClasses) {
+          // Room-type evidence from the predicted (tree CRF) second-level classes.
+          const Image<int32_t> predicted = PixelLabels(c->superpixels, c->tree_labels);
+          const std::vector<double> p = RoomTypeProbabilities(
+              *room_knn, RoomViewDescriptor(*v.view, predicted, room_level.num_classes()),
+              ObjectPixelFraction(*v.view, predicted, object_classes), kMinObjectFraction);
+          const int best = int(std::max_element(p.begin(), p.end()) - p.begin());
+          room_correct += best == v.room_type - 1;
+          room_other += best == kOtherRoomTypeIndex && v.room_type - 1 != kOtherRoomTypeIndex;
+          ++room_views;
+        }
       }
       ++val_views;
       return Status::Ok();
     }));
   }
   report["val_views"] = val_views;
+  report["room_type"]["val_views"] = room_views;
+  report["room_type"]["accuracy_per_view"] = room_views > 0 ? std::round(1e4 * room_correct / room_views) / 1e4 : 0.0;
+  report["room_type"]["other_fallbacks"] = room_other;
+  std::printf("room type per view: %d / %d correct (%.3f), %d sent to other for too little evidence\n", room_correct,
+              room_views, room_views > 0 ? double(room_correct) / room_views : 0.0, room_other);
   const char* methods[3] = {"knn", "tree_crf", "union_crf"};
   for (size_t l = 0; l < levels.size(); ++l) {
     std::printf("%s (%d classes), %d validation views:\n", levels[l].name.c_str(), levels[l].num_classes(), val_views);

@@ -1,0 +1,33 @@
+// Room-type evidence of one view (issue 5, item 5): a k-NN (Eq. 4 again) over a global descriptor of the
+// view: the histogram of its (predicted) object classes, colour and texture statistics and the spatial
+// layout of its depth, giving a distribution over the 12 room types of room_types.tsv (index = id - 1).
+// A view with too few object pixels holds too little evidence: all its mass goes to "other" (id 12).
+#pragma once
+
+#include <cstddef>  // core/image.h uses size_t without including it.
+#include <vector>
+
+#include "core/image.h"
+#include "perception/knn_unary.h"
+#include "render/view_renderer.h"
+
+namespace semvox {
+
+inline constexpr int kNumRoomTypeClasses = 12;  // room_types.tsv ids 1..12.
+inline constexpr int kOtherRoomTypeIndex = 11;  // Id 12, "other".
+
+// num_classes class fractions over the pixels that hit a surface (classes < 0 ignored), then L, a, b mean
+// and std over those pixels, mean |gradient of L| (texture), mean and std of depth (metres), fraction of
+// pixels hit, and the fraction of hit pixels in the upper half of the image (layout).
+int RoomDescriptorDims(int num_classes);
+std::vector<float> RoomViewDescriptor(const RenderedView& view, const Image<int32_t>& classes, int num_classes);
+
+// Fraction of hit pixels whose class is marked in `is_object_class` (furniture and props, not structure).
+double ObjectPixelFraction(const RenderedView& view, const Image<int32_t>& classes, const std::vector<bool>& is_object_class);
+
+// P(room type | view): `knn` over the descriptor (trained with labels id - 1), or "other" with probability 1
+// when object_fraction < min_object_fraction.
+std::vector<double> RoomTypeProbabilities(const KnnClassifier& knn, const std::vector<float>& descriptor,
+                                          double object_fraction, double min_object_fraction);
+
+}  // namespace semvox
