@@ -10,6 +10,7 @@
 #include "core/ply.h"
 #include "io/image_io.h"
 #include "io/load_scene.h"
+#include "rooms/floor_plan.h"
 
 namespace semvox::fuzz {
 namespace {
@@ -57,7 +58,8 @@ void FuzzMapImage(const uint8_t* data, size_t size) {
   const std::string path = TempFile("png");
   if (!WriteFileAtomic(path, Bytes(data, size)).ok()) return;
   Result<ImageU16> b = ReadImageU16(path);
-  (void)b;
+  Result<Image<uint8_t>> c = ReadGreyMap(path);  // What `semvox rooms` reads.
+  (void)b, (void)c;
   std::remove(path.c_str());
 }
 

@@ -5,7 +5,10 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
+#include <sstream>
+#include <vector>
 
 #include "core/file_util.h"
 #include "core/log.h"
@@ -57,6 +60,93 @@ Material ConvertMaterial(const aiScene* ai, const aiMaterial* am, const std::str
   return m;
 }
 
+// assimp's OBJ/MTL parsers crash on some malformed text (the fuzzer found NUL bytes inside keywords).
+// OBJ files are checked line by line before assimp sees them: text only, numbers where numbers belong,
+// face indices in range. MTL files named by mtllib are checked for being text.
+bool IsTextByte(unsigned char c) { return c >= 0x20 || c == '\t' || c == '\n' || c == '\r'; }
+
+Status CheckObjText(const std::string& bytes, const std::string& name) {
+  const std::string kHint = "the OBJ file is corrupt; re-export it";
+  long long nv = 0, nvt = 0, nvn = 0;
+  size_t pos = 0;
+  int line_no = 0;
+  while (pos < bytes.size()) {
+    size_t eol = bytes.find('\n', pos);
+    if (eol == std::string::npos) eol = bytes.size();
+    std::string line = bytes.substr(pos, eol - pos);
+    pos = eol + 1;
+    ++line_no;
+    for (unsigned char c : line)
+      if (!IsTextByte(c))
+        return Status::InvalidInput(FileError(name, "line " + std::to_string(line_no) + " holds a binary byte", kHint));
+    std::istringstream ls(line);
+    std::string key, tok;
+    if (!(ls >> key) || key[0] == '#') continue;
+    std::vector<std::string> vals;
+    while (ls >> tok) vals.push_back(tok);
+    auto bad = [&](const std::string& what) {
+      return Status::InvalidInput(FileError(name, "line " + std::to_string(line_no) + ": " + what, kHint));
+    };
+    if (key == "v" || key == "vt" || key == "vn") {
+      const size_t lo = key == "vt" ? 1 : 3, hi = key == "v" ? 7 : (key == "vt" ? 3 : 3);
+      if (vals.size() < lo || vals.size() > hi) return bad("'" + key + "' with " + std::to_string(vals.size()) + " values");
+      for (const auto& v : vals) {
+        char* end = nullptr;
+        std::strtod(v.c_str(), &end);
+        if (*end != '\0') return bad("'" + v + "' is not a number");
+      }
+      (key == "v" ? nv : key == "vt" ? nvt : nvn)++;
+    } else if (key == "f" || key == "l" || key == "p") {
+      if (vals.empty()) return bad("'" + key + "' without vertices");
+      for (const auto& v : vals) {
+        long long idx[3] = {0, 0, 0};
+        const long long limit[3] = {nv, nvt, nvn};
+        int part = 0;
+        size_t i = 0;
+        while (true) {
+          std::string num;
+          while (i < v.size() && v[i] != '/') num += v[i++];
+          if (!num.empty()) {
+            char* end = nullptr;
+            idx[part] = std::strtoll(num.c_str(), &end, 10);
+            if (*end != '\0' || idx[part] == 0 || std::llabs(idx[part]) > limit[part])
+              return bad("vertex reference '" + v + "' is out of range");
+          } else if (part == 0) {
+            return bad("vertex reference '" + v + "' has no position index");
+          }
+          if (i >= v.size()) break;
+          ++i;
+          if (++part > 2) return bad("vertex reference '" + v + "' has too many parts");
+        }
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+Status CheckObjFile(const std::string& path) {
+  std::string bytes;
+  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  SEMVOX_RETURN_IF_ERROR(CheckObjText(bytes, path));
+  // Material libraries it names.
+  std::istringstream is(bytes);
+  std::string line;
+  while (std::getline(is, line)) {
+    if (line.rfind("mtllib", 0) != 0) continue;
+    std::istringstream ls(line.substr(6));
+    std::string lib;
+    while (ls >> lib) {
+      const std::string mtl = (std::filesystem::path(path).parent_path() / lib).string();
+      std::string mbytes;
+      if (!ReadFileBytes(mtl, &mbytes).ok()) continue;  // Missing MTL: assimp warns and uses defaults.
+      for (unsigned char c : mbytes)
+        if (!IsTextByte(c))
+          return Status::InvalidInput(FileError(mtl, "material library holds binary bytes", "re-export the MTL file"));
+    }
+  }
+  return Status::Ok();
+}
+
 constexpr unsigned kAssimpFlags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType |
                                  aiProcess_ValidateDataStructure | aiProcess_FindInvalidData;
 
@@ -65,6 +155,7 @@ Result<Scene> ConvertAssimpScene(const aiScene* ai, const Assimp::Importer& impo
 }  // namespace
 
 Result<Scene> LoadAssimpScene(const std::string& path) {
+  if (LowerExtension(path) == "obj") SEMVOX_RETURN_IF_ERROR(CheckObjFile(path));
   Assimp::Importer importer;
   // Points and lines are dropped; only triangles matter for surfaces.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
@@ -72,6 +163,7 @@ Result<Scene> LoadAssimpScene(const std::string& path) {
 }
 
 Result<Scene> LoadAssimpSceneFromMemory(const std::string& bytes, const std::string& extension, const std::string& name) {
+  if (extension == "obj") SEMVOX_RETURN_IF_ERROR(CheckObjText(bytes, name));
   Assimp::Importer importer;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   return ConvertAssimpScene(importer.ReadFileFromMemory(bytes.data(), bytes.size(), kAssimpFlags, extension.c_str()),

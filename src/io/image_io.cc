@@ -40,9 +40,22 @@ Status Encode(const std::string& path, const cv::Mat& m) {
   return WriteFileAtomic(path, std::string(buf.begin(), buf.end()));
 }
 
+// Only formats semvox reads or writes are handed to OpenCV; anything else would reach fallback decoders
+// (GDAL) that print to stderr and widen the attack surface of untrusted input.
+bool KnownImageMagic(const std::string& b) {
+  auto starts = [&](const char* m, size_t n) { return b.size() >= n && b.compare(0, n, m, n) == 0; };
+  return starts("\x89PNG\r\n\x1a\n", 8) || starts("\xff\xd8\xff", 3) || starts("P5", 2) || starts("P2", 2) ||
+         starts("P6", 2) || starts("P3", 2) || starts("BM", 2) || starts("II*\0", 4) || starts("MM\0*", 4);
+}
+
+Status UnknownImage(const std::string& name) {
+  return Status::InvalidInput(FileError(name, "not a PNG, JPEG, PGM/PPM, BMP or TIFF image", "convert the image to PNG"));
+}
+
 }  // namespace
 
 Result<ImageRgb8> DecodeImageRgb8(const std::string& bytes, const std::string& name) {
+  if (!KnownImageMagic(bytes)) return UnknownImage(name);
   cv::Mat m;
   try {
     std::vector<uchar> buf(bytes.begin(), bytes.end());
@@ -60,9 +73,27 @@ Result<ImageRgb8> ReadImageRgb8(const std::string& path) {
   return DecodeImageRgb8(bytes, path);
 }
 
+Result<Image<uint8_t>> ReadImageGrey8(const std::string& path) {
+  std::string bytes;
+  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  if (!KnownImageMagic(bytes)) return UnknownImage(path);
+  cv::Mat m;
+  try {
+    std::vector<uchar> buf(bytes.begin(), bytes.end());
+    m = cv::imdecode(buf, cv::IMREAD_GRAYSCALE);
+  } catch (const cv::Exception&) {
+    m = cv::Mat();
+  }
+  if (m.empty()) return Status::InvalidInput(FileError(path, "cannot decode image", "use an 8-bit PNG or PGM"));
+  Image<uint8_t> img(m.cols, m.rows, 1);
+  for (int y = 0; y < m.rows; ++y) std::memcpy(&img.at(0, y), m.ptr(y), size_t(m.cols));
+  return img;
+}
+
 Result<ImageU16> ReadImageU16(const std::string& path) {
   std::string bytes;
   SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  if (!KnownImageMagic(bytes)) return UnknownImage(path);
   cv::Mat m;
   try {
     std::vector<uchar> buf(bytes.begin(), bytes.end());

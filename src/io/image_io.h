@@ -10,6 +10,8 @@ namespace semvox {
 
 Result<ImageRgb8> ReadImageRgb8(const std::string& path);
 Result<ImageRgb8> DecodeImageRgb8(const std::string& bytes, const std::string& name);
+// Single-channel 8-bit image (colour is converted to grey, 16-bit is scaled down): 2D maps.
+Result<Image<uint8_t>> ReadImageGrey8(const std::string& path);
 // 8-bit grey or 16-bit single-channel image, as stored (no scaling).
 Result<ImageU16> ReadImageU16(const std::string& path);
 

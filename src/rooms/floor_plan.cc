@@ -1,5 +1,7 @@
 #include "rooms/floor_plan.h"
 
+#include "io/image_io.h"
+
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -220,17 +222,7 @@ Result<Image<uint8_t>> ReadGreyMap(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     return Status::InvalidInput(FileError(path, "no such map image", "give a PNG or PGM map (0 occupied, 255 free)"));
-  cv::Mat m;
-  try {
-    m = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception& e) {
-    return Status::InvalidInput(FileError(path, std::string("cannot decode image: ") + e.what(), ""));
-  }
-  if (m.empty())
-    return Status::InvalidInput(FileError(path, "cannot decode image", "give a PNG or PGM map (0 occupied, 255 free)"));
-  Image<uint8_t> out(m.cols, m.rows, 1);
-  for (int y = 0; y < m.rows; ++y) std::copy(m.ptr<uchar>(y), m.ptr<uchar>(y) + m.cols, &out.at(0, y));
-  return out;
+  return ReadImageGrey8(path);
 }
 
 }  // namespace semvox
