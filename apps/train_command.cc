@@ -204,6 +204,7 @@ Status RunTrain(const TrainArgs& args) {
   for (const LabelLevel& level : levels)
     cms.push_back({ConfusionMatrix(level.num_classes()), ConfusionMatrix(level.num_classes()), ConfusionMatrix(level.num_classes())});
   int val_views = 0;
+  std::vector<int> union_converged(levels.size(), 0);  // Views whose loopy BP met its tolerance.
   for (uint64_t seed : val_seeds) {
     SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, views, [&](const LabelledView& v) {
       Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
@@ -217,6 +218,7 @@ Status RunTrain(const TrainArgs& args) {
         cms[l][0].AddImages(truth, PixelLabels(c->superpixels, c->knn_labels));
         cms[l][1].AddImages(truth, PixelLabels(c->superpixels, c->tree_labels));
         cms[l][2].AddImages(truth, PixelLabels(c->superpixels, c->union_labels));
+        union_converged[l] += c->union_bp.converged;
         if (l == 1 && v.room_type >= 1 && v.room_type <= kNumRoomTypeClasses) {
           // Room-type evidence from the predicted (tree CRF) second-level classes.
           const Image<int32_t> predicted = PixelLabels(c->superpixels, c->tree_labels);
@@ -244,6 +246,7 @@ Status RunTrain(const TrainArgs& args) {
     std::printf("%s (%d classes), %d validation views:\n", levels[l].name.c_str(), levels[l].num_classes(), val_views);
     for (int k = 0; k < 3; ++k) {
       report["levels"][levels[l].name][methods[k]] = Scores(cms[l][size_t(k)], levels[l]);
+      if (k == 2) report["levels"][levels[l].name][methods[k]]["loopy_bp_converged_views"] = union_converged[l];
       std::printf("  %-9s global %.3f  average %.3f\n", methods[k], cms[l][size_t(k)].GlobalAccuracy(), cms[l][size_t(k)].AverageRecall());
     }
   }

@@ -237,20 +237,35 @@ Result<KnnClassifier> KnnClassifier::Load(const std::string& path) {
       !get(features.data(), features.size() * 4) || !get(labels.data(), labels.size() * sizeof(int)))
     return Status::InvalidInput(FileError(path, "truncated k-NN model: expected " + std::to_string(n) + " rows",
                                           "re-run `semvox train`"));
-  // Undo the stored standardisation and train again: one code path builds every model.
-  for (size_t i = 0; i < size_t(n); ++i)
-    for (int d = 0; d < dims; ++d) {
-      float& v = features[i * size_t(dims) + size_t(d)];
-      v = v / inv_std[size_t(d)] + mean[size_t(d)];
-    }
+  // The stored rows are already standardised: rebuild the index on them as they are, so that a loaded
+  // model answers bit for bit as the saved one.
   KnnOptions options;
   options.k = header[2];
   options.leaf_max_size = header[3];
   options.probability_floor = floor;
   options.standardise = standardise != 0;
-  Result<KnnClassifier> r = Train(std::move(features), dims, std::move(labels), num_classes, options);
-  if (!r.ok()) return Status::InvalidInput(FileError(path, r.status().message(), "re-run `semvox train`"));
-  return r;
+  std::string error;
+  if (!options.Check(&error) || options.probability_floor * num_classes >= 1)
+    return Status::InvalidInput(FileError(path, "bad k-NN options: " + error, "re-run `semvox train`"));
+  auto impl = std::make_unique<Impl>();
+  impl->dims = dims;
+  impl->num_classes = num_classes;
+  impl->options = options;
+  impl->class_counts.assign(size_t(num_classes), 0);
+  for (int l : labels) {
+    if (l < 0 || l >= num_classes)
+      return Status::InvalidInput(FileError(path, "label " + std::to_string(l) + " outside [0, " + std::to_string(num_classes) + ")",
+                                            "re-run `semvox train`"));
+    ++impl->class_counts[size_t(l)];
+  }
+  for (float v : features)
+    if (!std::isfinite(v)) return Status::InvalidInput(FileError(path, "non-finite feature", "re-run `semvox train`"));
+  impl->mean = std::move(mean);
+  impl->inv_std = std::move(inv_std);
+  impl->features = std::move(features);
+  impl->labels = std::move(labels);
+  impl->Build();
+  return KnnClassifier(std::move(impl));
 }
 
 }  // namespace semvox
