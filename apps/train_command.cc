@@ -103,6 +103,10 @@ Status RunTrain(const TrainArgs& args) {
   std::vector<uint64_t> train_seeds, val_seeds;
   SEMVOX_RETURN_IF_ERROR(ParseSeeds(args.train_seeds, "--train-seeds", &train_seeds));
   SEMVOX_RETURN_IF_ERROR(ParseSeeds(args.val_seeds, "--val-seeds", &val_seeds));
+  if (args.crf_holdout < 0 || size_t(args.crf_holdout) >= train_seeds.size())
+    return Status::InvalidInput("--crf-holdout = " + std::to_string(args.crf_holdout) +
+                                ". Violated constraint: 0 <= crf-holdout < number of training seeds (" +
+                                std::to_string(train_seeds.size()) + ")");
   std::error_code ec;
   std::filesystem::create_directories(args.outdir, ec);
   if (ec) return Status::InvalidInput(FileError(args.outdir, "cannot create the output directory", ec.message()));
@@ -122,10 +126,6 @@ Status RunTrain(const TrainArgs& args) {
     room_labels.push_back(v.room_type - 1);
   };
   const auto t0 = std::chrono::steady_clock::now();
-  if (args.crf_holdout < 0 || size_t(args.crf_holdout) >= train_seeds.size())
-    return Status::InvalidInput("--crf-holdout = " + std::to_string(args.crf_holdout) +
-                                ". Violated constraint: 0 <= crf-holdout < number of training seeds (" +
-                                std::to_string(train_seeds.size()) + ")");
   const std::vector<uint64_t> crf_seeds(train_seeds.end() - args.crf_holdout, train_seeds.end());
   train_seeds.resize(train_seeds.size() - size_t(args.crf_holdout));
   for (uint64_t seed : train_seeds) {
@@ -144,6 +144,24 @@ Status RunTrain(const TrainArgs& args) {
   }
   std::vector<ViewClassifier> classifiers;
   nlohmann::json report;
+  // The effective configuration, beside the outputs.
+  report["options"] = {
+      {"superpixels", {{"region_size_px", options.superpixels.region_size_px}, {"compactness", options.superpixels.compactness},
+                       {"iterations", options.superpixels.iterations},
+                       {"min_element_size_percent", options.superpixels.min_element_size_percent}}},
+      {"observations", {{"min_depth_fraction", options.observations.min_depth_fraction},
+                        {"edge_gradient_min", options.observations.edge_gradient_min},
+                        {"vanishing_angle_max_deg", options.observations.vanishing_angle_max_deg}}},
+      {"knn", {{"k", options.knn.k}, {"probability_floor", options.knn.probability_floor}, {"standardise", options.knn.standardise}}},
+      {"crf_scales", {{"colour_scale_lab", options.crf.colour_scale_lab}, {"distance_scale_m", options.crf.distance_scale_m}}},
+      {"loopy", {{"max_iterations", options.loopy.max_iterations}, {"damping", options.loopy.damping}, {"tolerance", options.loopy.tolerance}}},
+      {"min_label_purity", options.min_label_purity},
+      {"views", {{"width", views.width}, {"height", views.height}, {"horizontal_fov_deg", views.horizontal_fov_deg},
+                 {"eye_height_m", views.eye_height_m}, {"pitch_deg", views.pitch_deg}, {"yaws_per_room", views.yaws_per_room},
+                 {"min_hit_fraction", views.min_hit_fraction}, {"min_mean_depth_m", views.min_mean_depth_m}}},
+      {"max_rows", args.max_rows},
+      {"crf_holdout", args.crf_holdout},
+      {"room_min_object_fraction", kMinObjectFraction}};
   report["train_seeds"] = args.train_seeds;
   report["crf_holdout_seeds"] = crf_seeds;
   report["val_seeds"] = args.val_seeds;
