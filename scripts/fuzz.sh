@@ -18,6 +18,7 @@ export ASAN_OPTIONS=detect_leaks=0:allocator_may_return_null=1
 for t in "${TARGETS[@]}"; do
   corpus=build-fuzz/corpus/$t
   artifacts=build-fuzz/artifacts/$t
+  rm -rf "$artifacts"
   mkdir -p "$corpus" "$artifacts"
   echo "== fuzz_$t for ${SECONDS_PER_TARGET}s"
   set +e
