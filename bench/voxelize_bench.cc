@@ -4,7 +4,7 @@
 // The frame: a 640x480 pinhole camera (90 x 74 degrees) at scanner height inside the demo apartment, rays
 // cast with Embree to the mesh (end points = exact surface hits), max range 5 m as in the reference figures.
 //
-//   build/bin/voxelize_bench [--mesh scenes/demo_apartment.ply] [--repeats 5]
+//   build/bin/voxelize_bench [--mesh scenes/demo_apartment.ply] [--repeats 5] [--resolution 0.05]
 #include <octomap/OcTree.h>
 
 #include <algorithm>
@@ -31,9 +31,11 @@ static double Median(std::vector<double> v) {
 int main(int argc, char** argv) {
   std::string mesh_path = std::string(SEMVOX_SOURCE_DIR) + "/scenes/demo_apartment.ply";
   int repeats = 5;
+  std::vector<double> resolutions = {0.05, 0.02};
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--mesh")) mesh_path = argv[i + 1];
     if (!std::strcmp(argv[i], "--repeats")) repeats = std::max(1, std::atoi(argv[i + 1]));
+    if (!std::strcmp(argv[i], "--resolution")) resolutions = {std::atof(argv[i + 1])};
   }
   Result<Scene> scene = LoadScene(mesh_path);
   if (!scene.ok()) { std::fprintf(stderr, "%s\n", scene.status().message().c_str()); return 2; }
@@ -73,7 +75,7 @@ int main(int argc, char** argv) {
   const auto tmp = std::filesystem::temp_directory_path() / ("semvox_voxbench_" + std::to_string(::getpid()));
   std::filesystem::create_directories(tmp);
   bool all_identical = true;
-  for (double res : {0.05, 0.02}) {
+  for (double res : resolutions) {
     std::vector<double> t_ref, t_ours, t_keys;
     bool identical = true;
     for (int rep = 0; rep < repeats; ++rep) {

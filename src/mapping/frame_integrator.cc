@@ -99,7 +99,7 @@ FrameUpdate IntegrateFrame(const Eigen::Vector3f& origin, const std::vector<Eige
     }
   });
 
-  // 3. Collect keys in key order (x fastest in the bitmap, so collect per (x, y, z) and sort once).
+  // 3. Collect keys in grid order (z, then y, then x).
   for (int64_t kz = 0; kz < dim[2]; ++kz)
     for (int64_t ky = 0; ky < dim[1]; ++ky) {
       const uint8_t* row = &bits[(size_t(kz) * dim[1] + size_t(ky)) * dim[0]];
@@ -109,8 +109,6 @@ FrameUpdate IntegrateFrame(const Eigen::Vector3f& origin, const std::vector<Eige
         (row[kx] & kOccupiedBit ? out.occupied : out.free).push_back(k);
       }
     }
-  std::sort(out.free.begin(), out.free.end());
-  std::sort(out.occupied.begin(), out.occupied.end());
   return out;
 }
 

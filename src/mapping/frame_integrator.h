@@ -16,8 +16,9 @@
 namespace semvox {
 
 struct FrameUpdate {
-  std::vector<VoxelKey> free;      // Sorted, unique, disjoint from occupied.
-  std::vector<VoxelKey> occupied;  // Sorted, unique.
+  // Unique keys in grid order (z slowest, x fastest); free and occupied are disjoint.
+  std::vector<VoxelKey> free;
+  std::vector<VoxelKey> occupied;
 };
 
 // max_range_m < 0: unlimited.
