@@ -68,10 +68,10 @@ FrameUpdate IntegrateFrame(const Eigen::Vector3f& origin, const std::vector<Eige
       [](Bounds a, const Bounds& c) { a.Merge(c); return a; });
   int64_t lo[3], dim[3];
   for (int i = 0; i < 3; ++i) {
-    // A margin of two cells: OctoMap's traversal can overshoot the end cell by one step before its
-    // distance test stops it.
-    lo[i] = std::max<int64_t>(0, b.lo[i] - 2);
-    dim[i] = std::min<int64_t>(65535, b.hi[i] + 2) - lo[i] + 1;
+    // A margin around all ray ends: OctoMap's traversal can overshoot the end cell by a step before its
+    // distance test stops it, and TraverseGrid<true> relies on the margin.
+    lo[i] = std::max<int64_t>(0, b.lo[i] - kInsideMargin);
+    dim[i] = std::min<int64_t>(65535, b.hi[i] + kInsideMargin) - lo[i] + 1;
   }
   std::vector<uint8_t> bits(size_t(dim[0]) * dim[1] * dim[2], 0);
   auto index = [&](int64_t kx, int64_t ky, int64_t kz) {
@@ -90,7 +90,7 @@ FrameUpdate IntegrateFrame(const Eigen::Vector3f& origin, const std::vector<Eige
       if (!(KeyIndexInRange(kx) && KeyIndexInRange(ky) && KeyIndexInRange(kz))) continue;
       if (in_range[j])
         std::atomic_ref<uint8_t>(bits[index(kx, ky, kz)]).fetch_or(kOccupiedBit, std::memory_order_relaxed);
-      TraverseGrid(origin, e, resolution, grid_key, grid_dims, [&](size_t idx) {
+      TraverseGrid<true>(origin, e, resolution, grid_key, grid_dims, [&](size_t idx) {
         uint8_t& cell = bits[idx];
         if (!(std::atomic_ref<uint8_t>(cell).load(std::memory_order_relaxed) & kFreeBit))
           std::atomic_ref<uint8_t>(cell).fetch_or(kFreeBit, std::memory_order_relaxed);
