@@ -48,23 +48,33 @@ bool KnownImageMagic(const std::string& b) {
          starts("P6", 2) || starts("P3", 2) || starts("BM", 2) || starts("II*\0", 4) || starts("MM\0*", 4);
 }
 
-Status UnknownImage(const std::string& name) {
-  return Status::InvalidInput(FileError(name, "not a PNG, JPEG, PGM/PPM, BMP or TIFF image", "convert the image to PNG"));
+// Decodes bytes of a known image format with OpenCV's `flags`; errors name `name`.
+Result<cv::Mat> DecodeMat(const std::string& bytes, const std::string& name, int flags, const char* hint) {
+  if (!KnownImageMagic(bytes))
+    return Status::InvalidInput(FileError(name, "not a PNG, JPEG, PGM/PPM, BMP or TIFF image", "convert the image to PNG"));
+  cv::Mat m;
+  try {
+    std::vector<uchar> buf(bytes.begin(), bytes.end());
+    m = cv::imdecode(buf, flags);
+  } catch (const cv::Exception&) {
+    m = cv::Mat();
+  }
+  if (m.empty()) return Status::InvalidInput(FileError(name, "cannot decode image", hint));
+  return m;
+}
+
+Result<cv::Mat> ReadMat(const std::string& path, int flags, const char* hint) {
+  std::string bytes;
+  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  return DecodeMat(bytes, path, flags, hint);
 }
 
 }  // namespace
 
 Result<ImageRgb8> DecodeImageRgb8(const std::string& bytes, const std::string& name) {
-  if (!KnownImageMagic(bytes)) return UnknownImage(name);
-  cv::Mat m;
-  try {
-    std::vector<uchar> buf(bytes.begin(), bytes.end());
-    m = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception&) {
-    m = cv::Mat();
-  }
-  if (m.empty()) return Status::InvalidInput(FileError(name, "cannot decode image", "use PNG or JPEG"));
-  return FromMat(m);
+  Result<cv::Mat> m = DecodeMat(bytes, name, cv::IMREAD_UNCHANGED, "use PNG or JPEG");
+  if (!m.ok()) return m.status();
+  return FromMat(m.value());
 }
 
 Result<ImageRgb8> ReadImageRgb8(const std::string& path) {
@@ -74,36 +84,18 @@ Result<ImageRgb8> ReadImageRgb8(const std::string& path) {
 }
 
 Result<Image<uint8_t>> ReadImageGrey8(const std::string& path) {
-  std::string bytes;
-  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
-  if (!KnownImageMagic(bytes)) return UnknownImage(path);
-  cv::Mat m;
-  try {
-    std::vector<uchar> buf(bytes.begin(), bytes.end());
-    m = cv::imdecode(buf, cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception&) {
-    m = cv::Mat();
-  }
-  if (m.empty()) return Status::InvalidInput(FileError(path, "cannot decode image", "use an 8-bit PNG or PGM"));
-  Image<uint8_t> img(m.cols, m.rows, 1);
-  for (int y = 0; y < m.rows; ++y) std::memcpy(&img.at(0, y), m.ptr(y), size_t(m.cols));
+  Result<cv::Mat> m = ReadMat(path, cv::IMREAD_GRAYSCALE, "use an 8-bit PNG or PGM");
+  if (!m.ok()) return m.status();
+  Image<uint8_t> img(m->cols, m->rows, 1);
+  for (int y = 0; y < m->rows; ++y) std::memcpy(&img.at(0, y), m->ptr(y), size_t(m->cols));
   return img;
 }
 
 Result<ImageU16> ReadImageU16(const std::string& path) {
-  std::string bytes;
-  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
-  if (!KnownImageMagic(bytes)) return UnknownImage(path);
-  cv::Mat m;
-  try {
-    std::vector<uchar> buf(bytes.begin(), bytes.end());
-    m = cv::imdecode(buf, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception&) {
-    m = cv::Mat();
-  }
-  if (m.empty()) return Status::InvalidInput(FileError(path, "cannot decode image", "use an 8- or 16-bit PNG"));
+  Result<cv::Mat> m = ReadMat(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE, "use an 8- or 16-bit PNG");
+  if (!m.ok()) return m.status();
   cv::Mat m16;
-  m.convertTo(m16, CV_16U);
+  m->convertTo(m16, CV_16U);
   ImageU16 img(m16.cols, m16.rows, 1);
   for (int y = 0; y < m16.rows; ++y) std::memcpy(&img.at(0, y), m16.ptr(y), size_t(m16.cols) * 2);
   return img;
