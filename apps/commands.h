@@ -1,6 +1,7 @@
 // Sub-commands of the semvox binary. main.cc parses the command line (CLI11) and calls these.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -8,6 +9,8 @@
 #include "core/status.h"
 
 namespace semvox {
+
+struct OnnxModels;  // apps/onnx_stage.h
 
 struct RunArgs {
   std::string input;
@@ -18,6 +21,10 @@ struct RunArgs {
   bool json = false;           // Print summary.json on stdout.
   long long max_voxels = 0;    // > 0 overrides mapping.max_voxels.
   bool save_views = false;     // Also write PNG thumbnails of every view into OUTDIR/views/.
+  // Optional ONNX backend (apps/onnx_stage.h): networks, label maps and input sizes ("WxH", "" = 224x224).
+  std::string scene_model, scene_labels, scene_input_size;
+  std::string object_model, object_labels, object_input_size;
+  std::shared_ptr<const OnnxModels> onnx;  // Loaded by main.cc before RunPipeline; null without ONNX flags.
 };
 
 // `semvox run`: load, voxelise, write map.bt, occupancy.{pgm,yaml}, summary.json, config_used.yaml.

@@ -4,7 +4,8 @@ set -euo pipefail
 PACKAGES=(build-essential cmake ninja-build ccache lld pkg-config git
   libpcl-dev liboctomap-dev libceres-dev libopencv-dev libopencv-contrib-dev libassimp-dev libeigen3-dev
   libembree-dev libtbb-dev libnanoflann-dev libsvm-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev
-  libgtest-dev libbenchmark-dev libboost-dev)
+  libgtest-dev libbenchmark-dev libboost-dev
+  python3-onnx python3-numpy)  # python3-onnx: the ONNX backend tests write tiny networks (Debian python3).
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
