@@ -1,7 +1,7 @@
-// The ONNX backend (issue 5, item 6) on tiny networks this test writes with python3-onnx: a 1x1
-// convolution (each pixel's class scores are a linear function of its colour) as the segmentation network,
-// global average pooling + Gemm as the scene network. Every output is checked against the same maths done
-// here by hand. Skips when python3 with the onnx module is missing.
+// The ONNX backend (issue 5, item 6) and its `semvox run` flags (apps/onnx_stage.h) on tiny networks this
+// test writes with python3-onnx: a 1x1 convolution (each pixel's class scores are a linear function of its
+// colour) as the segmentation network, global average pooling + Gemm as the scene network. Every output is
+// checked against the same maths done here by hand. Skips when python3 with the onnx module is missing.
 #include "perception/onnx_models.h"
 
 #include <gtest/gtest.h>
@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "apps/onnx_stage.h"
 #include "core/label_aliases.h"
 #include "core/labels.h"
 #include "tests/test_util.h"
@@ -471,6 +472,60 @@ TEST(OnnxCli, RunWithABadLabelMapFailsWithOneLineAndWritesNothing) {
                                               " --object-model " + model + " --object-labels " + dir.File("seg.tsv"),
                                           dir),
                                 out, dir.File("seg.tsv") + ":2: 'flor' is not a NYU40 class");
+}
+
+}  // namespace
+}  // namespace semvox
+
+// ---- apps/onnx_stage.h: the models from RunArgs ----
+
+namespace semvox {
+namespace {
+
+TEST(OnnxStage, LoadsTheModelsRunArgsNameWithTheirInputSizes) {
+  REQUIRE_PYTHON_ONNX();
+  testing::ScratchDir dir("onnx_stage");
+  const int w = 32, h = 24;
+  RunArgs args;
+  args.object_model = MakeModel(python, dir, "seg", Json("seg", w, h, kSegWeights, kSegBias, false));
+  args.object_labels = dir.File("seg.tsv");
+  args.object_input_size = "32x24";
+  args.scene_model = MakeModel(python, dir, "scene", Json("scene", 224, 224, kSceneWeights, kSceneBias, true));
+  args.scene_labels = dir.File("scene.tsv");
+  testing::WriteText(args.object_labels, kSegLabels);
+  testing::WriteText(args.scene_labels, kSceneLabels);
+  OnnxModels models;
+  const Status st = LoadOnnxModels(args, &models);
+  ASSERT_TRUE(st.ok()) << st.message();
+  ASSERT_TRUE(models.scene.has_value() && models.object.has_value());
+  EXPECT_EQ(models.object->level().name, "second");
+  EXPECT_EQ(models.object->options().preprocessing.input_width, w);
+  EXPECT_EQ(models.object->options().preprocessing.input_height, h);
+  EXPECT_EQ(models.scene->options().preprocessing.input_width, 224);
+  // Per-pixel argmax: the most probable second-level class of each quadrant's colour, by hand.
+  Result<ImageF32> q = models.object->PixelProbabilities(QuadrantView(w, h));
+  ASSERT_TRUE(q.ok()) << q.status().message();
+  const Image<int32_t> labels = PixelArgmax(*q);
+  const LabelLevel level = SecondLevel();
+  const int nyu40_of_network_class[] = {nyu40::kWall, nyu40::kFloor, nyu40::kBed, 0, nyu40::kPillow};
+  for (int quadrant = 0; quadrant < 4; ++quadrant) {
+    const auto& c = kQuadrantColours[size_t(quadrant)];
+    const std::vector<double> p = Softmax(kSegWeights, kSegBias, Normalised({double(c[0]), double(c[1]), double(c[2])}));
+    int best = 0;
+    for (int k = 1; k < 5; ++k)
+      if (k != 3 && p[size_t(k)] > p[size_t(best)]) best = k;  // Class 3 maps to nothing.
+    const int x = quadrant % 2 ? w - 1 : 0, y = quadrant / 2 ? h - 1 : 0;
+    EXPECT_EQ(labels.at(x, y), level.class_of_nyu40[size_t(nyu40_of_network_class[best])]) << "quadrant " << quadrant;
+  }
+  // Flags in halves are errors naming the missing flag; no flags load nothing.
+  RunArgs half;
+  half.object_labels = args.object_labels;
+  const Status missing = LoadOnnxModels(half, &models);
+  EXPECT_NE(missing.message().find("--object-labels " + args.object_labels + " is given without --object-model"), std::string::npos)
+      << missing.message();
+  EXPECT_FALSE(models.any());
+  ASSERT_TRUE(LoadOnnxModels(RunArgs{}, &models).ok());
+  EXPECT_FALSE(models.any());
 }
 
 }  // namespace
