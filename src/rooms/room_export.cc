@@ -171,6 +171,12 @@ std::string RoomsToGeoJson(const std::vector<RoomDescription>& rooms) {
     props["type_id"] = d.type_id;
     props["type_probabilities"] = ordered_json::object();
     for (size_t t = 0; t < d.type_probabilities.size(); ++t) props["type_probabilities"][TypeName(int(t))] = d.type_probabilities[t];
+    if (d.type_id > 0) {
+      props["probability"] = std::round(d.type_probability * 1e4) / 1e4;
+      props["second_type"] = TypeName(d.second_type_id);
+      props["second_type_id"] = d.second_type_id;
+      props["second_probability"] = std::round(d.second_type_probability * 1e4) / 1e4;
+    }
     props["area_m2"] = std::round(d.area_m2 * 1e4) / 1e4;
     if (d.ceiling_height_m > 0) props["ceiling_height_m"] = std::round(d.ceiling_height_m * 1e3) / 1e3;
     else props["ceiling_height_m"] = nullptr;
@@ -247,6 +253,14 @@ Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const Roo
   SEMVOX_RETURN_IF_ERROR(WriteRoomIdsPng((base / "rooms.png").string(), rooms.room_ids));
   if (png_only) return Status::Ok();
   const std::vector<RoomDescription> described = DescribeRooms(plan, rooms);
+  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((base / "rooms.geojson").string(), RoomsToGeoJson(described)));
+  return WriteFileAtomic((base / "rooms.svg").string(), RoomsToSvg(plan, rooms, described));
+}
+
+Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const RoomSegmentation& rooms,
+                        const std::vector<RoomDescription>& described) {
+  const std::filesystem::path base(dir);
+  SEMVOX_RETURN_IF_ERROR(WriteRoomIdsPng((base / "rooms.png").string(), rooms.room_ids));
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((base / "rooms.geojson").string(), RoomsToGeoJson(described)));
   return WriteFileAtomic((base / "rooms.svg").string(), RoomsToSvg(plan, rooms, described));
 }

@@ -3,8 +3,9 @@
 //   rooms.geojson  a FeatureCollection, one Polygon (MultiPolygon if a room has several parts) per room in
 //                  metres, with properties id, type, type_id, type_probabilities, area_m2, ceiling_height_m;
 //   rooms.svg      the floor plan with each room filled, its id and type at its centre, and a legend.
-// Room types come from a room-type classifier that does not exist yet: every room is "unknown" (id 0)
-// with empty type_probabilities until one fills RoomDescription::type_id.
+// Room types come from the room-type CRF (rooms/room_type_crf.h, written by apps/room_types_stage.h); without
+// it every room is "unknown" (id 0) with empty type_probabilities. Typed rooms also carry `probability`,
+// `second_type`, `second_type_id` and `second_probability`.
 #pragma once
 
 #include <Eigen/Core>
@@ -25,7 +26,10 @@ struct RoomPolygon {
 struct RoomDescription {
   int id = 0;                         // As in rooms.png.
   int type_id = 0;                    // Room type (core/labels.h RoomTypes()); 0 = unknown.
-  std::vector<double> type_probabilities;  // Empty, or one per room type.
+  std::vector<double> type_probabilities;  // Empty, or one per room type id (index = id, 0 = unknown).
+  double type_probability = 0;        // Probability of type_id.
+  int second_type_id = 0;             // Runner-up type (0 = none) and its probability.
+  double second_type_probability = 0;
   double area_m2 = 0;                 // Floor area including the furniture inside, m².
   double ceiling_height_m = 0;        // Median ceiling height above the floor, metres; 0 = unknown.
   Eigen::Vector2d label_point{0, 0};  // A point well inside the room (deepest cell), metres.
@@ -44,5 +48,8 @@ Status WriteRoomIdsPng(const std::string& path, const ImageU16& ids);
 // Writes rooms.png, and unless `png_only` rooms.geojson and rooms.svg, into `dir`.
 Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const RoomSegmentation& rooms,
                         bool png_only = false);
+// Same, with rooms already described (and typed).
+Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const RoomSegmentation& rooms,
+                        const std::vector<RoomDescription>& described);
 
 }  // namespace semvox

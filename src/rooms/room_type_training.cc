@@ -1,0 +1,351 @@
+#include "rooms/room_type_training.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+#include "core/file_util.h"
+#include "core/labels.h"
+#include "perception/room_evidence.h"
+#include "scenegen/apartment_io.h"
+
+namespace semvox {
+namespace {
+
+using Dist = std::array<double, kRoomTypeLabels>;
+
+bool InsideBox(const OrientedBox& b, double x, double y, double margin = 0) {
+  const double c = std::cos(b.yaw_rad), s = std::sin(b.yaw_rad);
+  const double dx = x - b.center.x(), dy = y - b.center.y();
+  const double u = c * dx + s * dy, v = -s * dx + c * dy;
+  return std::fabs(u) <= b.size.x() / 2 + margin && std::fabs(v) <= b.size.y() / 2 + margin;
+}
+
+// room_types.tsv r2v_names -> type id.
+int R2vRoomType(const std::string& name) {
+  static const std::map<std::string, int> kTypes = {{"bathroom", 1}, {"restroom", 1}, {"bedroom", 2},  {"corridor", 4},
+                                                    {"kitchen", 6},  {"washing_room", 7}, {"living_room", 8}, {"stairs", 10},
+                                                    {"closet", 11},  {"PS", 11},       {"balcony", 12}};
+  const auto it = kTypes.find(name);
+  return it == kTypes.end() ? 0 : it->second;
+}
+
+int R2vFixtureLabel(const std::string& name) {
+  if (name == "cooking_counter") return 12;
+  if (name == "washing_basin") return 34;
+  if (name == "toilet") return 33;
+  if (name == "bathtub") return 36;
+  return 0;
+}
+
+}  // namespace
+
+const std::vector<int>& R2vFixtureLabels() {
+  static const std::vector<int> kLabels = {12, 33, 34, 36};
+  return kLabels;
+}
+
+std::vector<RoomTypeVariant> AllRoomTypeVariants() {
+  std::vector<RoomTypeVariant> out;
+  for (ScenePotential s : {ScenePotential::kCnn, ScenePotential::kConfusion})
+    for (HomogeneityPotential h : {HomogeneityPotential::kNone, HomogeneityPotential::kStatistics, HomogeneityPotential::kGaussian})
+      for (bool obj : {false, true}) out.push_back({s, h, obj});
+  return out;
+}
+
+FloorPlan FloorPlanFromApartment(const Apartment& a, double resolution_m) {
+  GroundTruthOptions gto;
+  gto.resolution_m = resolution_m;
+  const FloorGrid grid = MakeFloorGrid(a, gto);
+  const ImageU16 rooms = RasterizeRooms(a, grid);
+  FloorPlan plan;
+  plan.resolution_m = grid.resolution;
+  plan.origin_x = grid.origin_x, plan.origin_y = grid.origin_y, plan.floor_z = a.floor_z_m;
+  plan.cells = Image<uint8_t>(grid.width, grid.height, 1, uint8_t(FloorCell::kWall));
+  plan.ceiling_height_m = ImageF32(grid.width, grid.height, 1, 0.f);
+  for (int r = 0; r < grid.height; ++r)
+    for (int c = 0; c < grid.width; ++c) {
+      if (!rooms.at(c, r)) continue;
+      plan.cells.at(c, r) = uint8_t(FloorCell::kFree);
+      plan.ceiling_height_m.at(c, r) = float(a.ceiling_z_m - a.floor_z_m);
+      const double x = grid.CenterX(c), y = grid.CenterY(r);
+      for (const ObjectGt& o : a.objects)
+        if (o.support_of < 0 && o.box.center.z() - o.box.size.z() / 2 < a.floor_z_m + 0.2 && InsideBox(o.box, x, y)) {
+          plan.cells.at(c, r) = uint8_t(FloorCell::kClutter);
+          break;
+        }
+    }
+  for (const DoorGt& d : a.doors) {
+    const double half_w = d.width_m / 2, half_t = d.wall_thickness_m / 2 + grid.resolution;
+    for (int r = 0; r < grid.height; ++r)
+      for (int c = 0; c < grid.width; ++c) {
+        const double dx = grid.CenterX(c) - d.center.x(), dy = grid.CenterY(r) - d.center.y();
+        const bool in = d.along_x ? std::fabs(dx) <= half_w && std::fabs(dy) <= half_t : std::fabs(dy) <= half_w && std::fabs(dx) <= half_t;
+        if (in && plan.at(c, r) == FloorCell::kWall) plan.cells.at(c, r) = uint8_t(FloorCell::kDoor);
+      }
+  }
+  return plan;
+}
+
+Result<RoomTypeTrainingScene> RoomTypeSceneFromApartment(uint64_t seed, const RoomSegmentationOptions& segmentation) {
+  ApartmentOptions ao;
+  ao.seed = seed;
+  Result<Apartment> a = GenerateApartment(ao);
+  if (!a.ok()) return a.status();
+  RoomTypeTrainingScene s;
+  s.plan = FloorPlanFromApartment(*a);
+  s.rooms = SegmentRooms(s.plan, segmentation);
+  const GroundTruthOptions gto;
+  const FloorGrid grid = MakeFloorGrid(*a, gto);
+  s.topview = RasterizeTopView(*a, grid, gto);
+  for (uint16_t& v : s.topview.data)
+    if (v == kTopViewHidden) v = 0;
+  const ImageU16 rooms = RasterizeRooms(*a, grid);
+  s.truth = ImageU16(rooms.width, rooms.height, 1, 0);
+  std::map<int, int> type_of;
+  for (const RoomGt& r : a->rooms) type_of[r.id] = r.type_id;
+  for (size_t i = 0; i < rooms.data.size(); ++i)
+    if (rooms.data[i]) s.truth.data[i] = uint16_t(type_of[rooms.data[i]]);
+  return s;
+}
+
+ObjectRoomCounts CountApartmentObjects(const Apartment& a) {
+  ObjectRoomCounts c;
+  for (const RoomGt& r : a.rooms) {
+    if (r.type_id < 1 || r.type_id > kRoomTypeLabels) continue;
+    c.rooms[size_t(r.type_id - 1)] += 1;
+    std::vector<bool> seen(kNumNyu40, false);
+    for (const ObjectGt& o : a.objects)
+      if (o.room == r.id && o.label > 0 && o.label < kNumNyu40) seen[size_t(o.label)] = true;
+    for (int k = 1; k < kNumNyu40; ++k)
+      if (seen[size_t(k)]) c.with_object[size_t(k)][size_t(r.type_id - 1)] += 1;
+  }
+  return c;
+}
+
+Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int* plans_used) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind("plan_", 0) == 0 && it->path().extension() == ".txt") files.push_back(it->path().string());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty())
+    return Status::InvalidInput(FileError(dir, "no plan_*.txt (R2V plans) found", "pass the r2v folder of ../shared/data"));
+  ObjectRoomCounts counts;
+  int used = 0;
+  for (const std::string& f : files) {
+    struct Item {
+      double x0, y0, x1, y1;
+      std::string category;
+    };
+    std::vector<Item> items;
+    std::ifstream in(f);
+    std::string line;
+    double max_x = 0, max_y = 0;
+    while (std::getline(in, line)) {
+      std::istringstream ls(line);
+      Item it;
+      if (!(ls >> it.x0 >> it.y0 >> it.x1 >> it.y1 >> it.category)) continue;
+      if (!std::isfinite(it.x0) || !std::isfinite(it.y0) || !std::isfinite(it.x1) || !std::isfinite(it.y1) || it.x0 < 0 ||
+          it.y0 < 0 || it.x1 < 0 || it.y1 < 0 || it.x0 > 1e4 || it.y0 > 1e4 || it.x1 > 1e4 || it.y1 > 1e4)
+        continue;
+      max_x = std::max({max_x, it.x0, it.x1}), max_y = std::max({max_y, it.y0, it.y1});
+      items.push_back(it);
+    }
+    if (items.empty()) continue;
+    // Plan pixels as they are; walls and doors drawn 3 px thick as barriers.
+    const int W = int(max_x) + 8, H = int(max_y) + 8;
+    auto P = [](double x, double y) { return cv::Point(int(std::lround(x)) + 3, int(std::lround(y)) + 3); };
+    cv::Mat1b barriers(H, W, uchar(0));
+    for (const Item& it : items)
+      if (it.category == "wall" || it.category == "door") cv::line(barriers, P(it.x0, it.y0), P(it.x1, it.y1), 255, 3);
+    cv::Mat1i region(H, W, 0);
+    std::vector<int> region_type(1, 0);
+    for (const Item& it : items) {
+      const int type = R2vRoomType(it.category);
+      if (!type) continue;
+      const cv::Point c = P(0.5 * (it.x0 + it.x1), 0.5 * (it.y0 + it.y1));
+      if (c.x < 0 || c.y < 0 || c.x >= W || c.y >= H || barriers(c)) continue;
+      if (const int r = region(c)) {  // A second label in the same region: keep the first unless it disagrees.
+        if (region_type[size_t(r)] != type) region_type[size_t(r)] = -1;
+        continue;
+      }
+      cv::Mat1b mask(H + 2, W + 2, uchar(0));
+      barriers.copyTo(mask(cv::Rect(1, 1, W, H)));
+      cv::Mat1b scratch = barriers.clone();
+      cv::floodFill(scratch, mask, c, 128, nullptr, 0, 0, 4 | (255 << 8) | cv::FLOODFILL_MASK_ONLY);
+      const cv::Mat1b filled = (mask(cv::Rect(1, 1, W, H)) == 255) & ~barriers;
+      bool border = false;  // The outside of a plan that is not closed.
+      for (int x = 0; x < W && !border; ++x) border = filled(0, x) || filled(H - 1, x);
+      for (int y = 0; y < H && !border; ++y) border = filled(y, 0) || filled(y, W - 1);
+      if (border) continue;
+      region_type.push_back(type);
+      region.setTo(int(region_type.size() - 1), filled);
+    }
+    if (region_type.size() <= 1) continue;
+    ++used;
+    std::vector<std::vector<bool>> has(region_type.size(), std::vector<bool>(kNumNyu40, false));
+    for (const Item& it : items) {
+      const int k = R2vFixtureLabel(it.category);
+      if (!k) continue;
+      const cv::Point c = P(0.5 * (it.x0 + it.x1), 0.5 * (it.y0 + it.y1));
+      if (c.x < 0 || c.y < 0 || c.x >= W || c.y >= H) continue;
+      if (const int r = region(c)) has[size_t(r)][size_t(k)] = true;
+    }
+    for (size_t r = 1; r < region_type.size(); ++r) {
+      const int t = region_type[r];
+      if (t < 1) continue;  // Conflicting labels: skipped.
+      counts.rooms[size_t(t - 1)] += 1;
+      for (int k : R2vFixtureLabels())
+        if (has[r][size_t(k)]) counts.with_object[size_t(k)][size_t(t - 1)] += 1;
+    }
+  }
+  if (plans_used) *plans_used = used;
+  return counts;
+}
+
+std::vector<Dist> CombinedObjectStatistics(const ObjectRoomCounts& generator, const ObjectRoomCounts* r2v) {
+  std::vector<Dist> table = ObjectTypeStatistics(generator);
+  if (!r2v) return table;
+  ObjectRoomCounts pooled = generator;
+  pooled.Add(*r2v);
+  const std::vector<Dist> fixtures = ObjectTypeStatistics(pooled);
+  for (int k : R2vFixtureLabels()) table[size_t(k)] = fixtures[size_t(k)];
+  return table;
+}
+
+RoomViewRecord MakeRoomViewRecord(const LabelledView& v, const Image<int32_t>& predicted, int num_classes,
+                                  const std::vector<bool>& object_classes, double max_range_m) {
+  RoomViewRecord r;
+  r.seed = v.seed;
+  r.geometry.position = v.view->world_from_camera.translation();
+  const Eigen::Vector3d axis = v.view->world_from_camera.linear() * Eigen::Vector3d::UnitZ();
+  r.geometry.yaw_rad = std::atan2(axis.y(), axis.x());
+  r.geometry.hfov_rad = 2 * std::atan(0.5 * v.view->camera.width / v.view->camera.fx);
+  r.geometry.max_range_m = max_range_m;
+  r.descriptor = RoomViewDescriptor(*v.view, predicted, num_classes);
+  r.object_fraction = ObjectPixelFraction(*v.view, predicted, object_classes);
+  return r;
+}
+
+namespace {
+
+std::vector<bool> ObjectClassesOf(const LabelLevel& level) {
+  std::vector<bool> out;
+  for (const std::string& name : level.class_names)
+    out.push_back(name != "wall" && name != "floor" && name != "ceiling" && name != "window" && name != "door");
+  return out;
+}
+
+void SetEvidence(const KnnClassifier& knn, const RoomViewRecord& r, double min_object_fraction, ViewRoomEvidence* e) {
+  *e = r.geometry;
+  const std::vector<double> p = RoomTypeProbabilities(knn, r.descriptor, r.object_fraction, min_object_fraction);
+  for (int y = 0; y < kRoomTypeLabels && y < int(p.size()); ++y) e->p[size_t(y)] = p[size_t(y)];
+}
+
+}  // namespace
+
+Result<std::vector<ViewRoomEvidence>> ClassifiedApartmentViews(uint64_t seed, const TrainingViewsOptions& views,
+                                                               const ViewClassifier& second_level,
+                                                               const KnnClassifier& room_knn, double max_range_m) {
+  const LabelLevel level = SecondLevel();
+  const std::vector<bool> object_classes = ObjectClassesOf(level);
+  std::vector<ViewRoomEvidence> out;
+  SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, views, [&](const LabelledView& v) {
+    Result<ViewClassification> c = second_level.Classify(*v.view);
+    if (!c.ok()) return c.status();
+    const Image<int32_t> predicted = PixelLabels(c->superpixels, c->tree_labels);
+    const RoomViewRecord r = MakeRoomViewRecord(v, predicted, level.num_classes(), object_classes, max_range_m);
+    out.emplace_back();
+    SetEvidence(room_knn, r, 0.02, &out.back());
+    return Status::Ok();
+  }));
+  return out;
+}
+
+Result<RoomTypeModel> TrainRoomTypeModel(const std::vector<RoomViewRecord>& records, const std::vector<float>& room_rows,
+                                         const std::vector<int>& room_labels, const std::vector<uint64_t>& room_row_seeds,
+                                         int descriptor_dims, const std::vector<uint64_t>& statistics_seeds,
+                                         const RoomTypeTrainingOptions& options, RoomTypeTrainingSummary* summary) {
+  RoomTypeTrainingSummary local;
+  RoomTypeTrainingSummary& sum = summary ? *summary : local;
+  if (room_labels.size() != room_row_seeds.size() || room_rows.size() != room_labels.size() * size_t(descriptor_dims))
+    return Status::InvalidInput("room-type CRF training: room rows, labels and seeds differ in count");
+  RoomTypeModel model = RoomTypeModel::Uninformative();
+  // Object statistics (Eq. 5) and homogeneity statistics (Fig. 6) from the generator's ground truth.
+  ObjectRoomCounts gen;
+  std::vector<RoomTypeTrainingScene> truth_scenes;
+  for (uint64_t seed : statistics_seeds) {
+    ApartmentOptions ao;
+    ao.seed = seed;
+    Result<Apartment> a = GenerateApartment(ao);
+    if (!a.ok()) return a.status();
+    gen.Add(CountApartmentObjects(*a));
+    Result<RoomTypeTrainingScene> s = RoomTypeSceneFromApartment(seed);
+    if (!s.ok()) return s.status();
+    truth_scenes.push_back(std::move(s).value());
+  }
+  sum.statistics_apartments = int(statistics_seeds.size());
+  ObjectRoomCounts r2v;
+  bool have_r2v = false;
+  if (!options.r2v_dir.empty()) {
+    Result<ObjectRoomCounts> c = CountR2vFixtures(options.r2v_dir, &sum.r2v_plans);
+    if (c.ok()) r2v = *c, have_r2v = true;
+  }
+  model.object_type = CombinedObjectStatistics(gen, have_r2v ? &r2v : nullptr);
+  LearnHomogeneityStatistics(truth_scenes, options.crf, &model);
+  // Evidence apartments: per-view distributions from a k-NN without the apartment's own rows.
+  std::vector<uint64_t> evidence_seeds;
+  for (const RoomViewRecord& r : records)
+    if (std::find(evidence_seeds.begin(), evidence_seeds.end(), r.seed) == evidence_seeds.end()) evidence_seeds.push_back(r.seed);
+  std::vector<RoomTypeTrainingScene> scenes;
+  for (uint64_t seed : evidence_seeds) {
+    std::vector<float> rows;
+    std::vector<int> labels;
+    for (size_t i = 0; i < room_labels.size(); ++i) {
+      if (room_row_seeds[i] == seed) continue;
+      rows.insert(rows.end(), room_rows.begin() + long(i * size_t(descriptor_dims)), room_rows.begin() + long((i + 1) * size_t(descriptor_dims)));
+      labels.push_back(room_labels[i]);
+    }
+    Result<KnnClassifier> knn = KnnClassifier::Train(rows, descriptor_dims, labels, kRoomTypeLabels, KnnOptions{});
+    if (!knn.ok()) return knn.status();
+    Result<RoomTypeTrainingScene> s = RoomTypeSceneFromApartment(seed);
+    if (!s.ok()) return s.status();
+    for (const RoomViewRecord& r : records) {
+      if (r.seed != seed) continue;
+      s->views.emplace_back();
+      SetEvidence(*knn, r, options.min_object_fraction, &s->views.back());
+    }
+    scenes.push_back(std::move(s).value());
+  }
+  sum.evidence_scenes = int(scenes.size());
+  LearnConfusion(scenes, &model);
+  std::ostringstream rep;
+  for (const RoomTypeVariant& v : AllRoomTypeVariants()) {
+    const RoomTypeWeights w = LearnWeightsSsvm(scenes, model, v, options.crf, options.ssvm);
+    model.SetWeights(v, w);
+    rep << v.Name() << ": w_c " << w.scene << " w_obj " << w.objects[0] << " " << w.objects[1] << " " << w.objects[2] << " "
+        << w.objects[3] << " w_hom " << w.homogeneity << "\n";
+  }
+  model.dense = LearnDenseCrfParams(scenes, model, options.crf);
+  rep << "dense CRF: w1 " << model.dense.w_appearance << " theta_alpha " << model.dense.theta_alpha_m << " w2 "
+      << model.dense.w_smooth << " theta_gamma " << model.dense.theta_gamma_m << "\n";
+  std::ostringstream prov;
+  prov << "semvox train: object and homogeneity statistics from " << statistics_seeds.size() << " generated apartments"
+       << (have_r2v ? " + " + std::to_string(sum.r2v_plans) + " R2V plans (fixtures)" : std::string()) << "; confusion, SSVM weights and "
+       << "dense-CRF parameters from " << scenes.size() << " apartments' classified views (leave-one-apartment-out room k-NN)";
+  model.provenance = prov.str();
+  sum.report = rep.str();
+  return model;
+}
+
+}  // namespace semvox

@@ -1,0 +1,91 @@
+// Training data for the room-type CRF (library semvox_rooms_train: adds the apartment generator and the
+// per-view classifier to semvox_rooms; the CRF itself depends on neither).
+//
+//   seed --RoomTypeSceneFromApartment--> RoomTypeTrainingScene (plan, rooms, top view, true types; no views)
+//   apartments --CountApartmentObjects--> ObjectRoomCounts     (generator ground truth, every object class)
+//   r2v plans  --CountR2vFixtures-------> ObjectRoomCounts     (toilet, bathtub, sink, counter only)
+//   TrainRoomTypeModel: confusion, statistics, SSVM weights of every variant, dense-CRF parameters.
+//
+// The plan of a generated apartment is rasterised from its ground truth (no voxelisation: fast, and the
+// same for every run): room interiors free, furniture standing on the floor clutter, door openings door
+// cells, everything else wall; then segmented with SegmentRooms. The top view is the generator's
+// topview_gt raster (hidden cells as 0). The true type of a pixel is its room's type.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "perception/knn_unary.h"
+#include "perception/training_data.h"
+#include "perception/view_classifier.h"
+#include "rooms/room_type_crf.h"
+#include "scenegen/apartment.h"
+
+namespace semvox {
+
+FloorPlan FloorPlanFromApartment(const Apartment& apartment, double resolution_m = 0.05);
+
+// Plan, segmentation (default options), top view and true types of generated apartment `seed` (views empty).
+Result<RoomTypeTrainingScene> RoomTypeSceneFromApartment(uint64_t seed, const RoomSegmentationOptions& segmentation = {});
+
+// Rooms of each type and how many of them hold each NYU40 object class (generator ground truth).
+ObjectRoomCounts CountApartmentObjects(const Apartment& apartment);
+
+// R2V plans (../shared/data/r2v/plan_*.txt): rooms flood-filled from their label boxes with walls and doors as
+// barriers, typed by room_types.tsv's r2v names; fixtures counted into the room holding their centre
+// (cooking_counter -> counter 12, washing_basin -> sink 34, toilet -> 33, bathtub -> 36). Fails when the
+// directory holds no plan.
+Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int* plans_used = nullptr);
+
+// The NYU40 ids the R2V fixtures stand for.
+const std::vector<int>& R2vFixtureLabels();
+
+// Object statistics from the generator counts, with the rows of the R2V fixture classes computed from the
+// pooled counts (generator + R2V rooms) when `r2v` is given.
+std::vector<std::array<double, kRoomTypeLabels>> CombinedObjectStatistics(const ObjectRoomCounts& generator,
+                                                                        const ObjectRoomCounts* r2v);
+
+// One classified view: where it looked from, and the room-type descriptor of its predicted classes.
+struct RoomViewRecord {
+  uint64_t seed = 0;
+  ViewRoomEvidence geometry;       // p unset.
+  std::vector<float> descriptor;   // RoomViewDescriptor of the predicted second-level classes.
+  double object_fraction = 0;
+};
+RoomViewRecord MakeRoomViewRecord(const LabelledView& view, const Image<int32_t>& predicted_classes, int num_classes,
+                                  const std::vector<bool>& object_classes, double max_range_m);
+
+// Per-view evidence of apartment `seed` as the pipeline would compute it: every training view rendered,
+// classified (second level, tree CRF) and given to the room-type k-NN.
+Result<std::vector<ViewRoomEvidence>> ClassifiedApartmentViews(uint64_t seed, const TrainingViewsOptions& views,
+                                                               const ViewClassifier& second_level,
+                                                               const KnnClassifier& room_knn, double max_range_m);
+
+struct RoomTypeTrainingOptions {
+  RoomTypeCrfOptions crf;              // Graph options for training.
+  SsvmOptions ssvm;
+  double min_object_fraction = 0.02;   // As RoomTypeProbabilities.
+  std::string r2v_dir;                 // Empty: no R2V statistics.
+};
+
+struct RoomTypeTrainingSummary {
+  int evidence_scenes = 0, statistics_apartments = 0, r2v_plans = 0;
+  std::string report;  // One line per learned piece.
+};
+
+// Learns the model: object statistics from `statistics_seeds` (+ R2V), homogeneity statistics from the same
+// apartments' truth, and the confusion, SSVM weights of every variant and dense-CRF parameters from the
+// `records` of the evidence apartments, whose per-view distributions come from a k-NN over `room_rows`
+// (labels `room_labels`, apartment `room_row_seeds`) without the rows of the view's own apartment
+// (leave one apartment out, so no view is its own neighbour).
+Result<RoomTypeModel> TrainRoomTypeModel(const std::vector<RoomViewRecord>& records, const std::vector<float>& room_rows,
+                                         const std::vector<int>& room_labels, const std::vector<uint64_t>& room_row_seeds,
+                                         int descriptor_dims, const std::vector<uint64_t>& statistics_seeds,
+                                         const RoomTypeTrainingOptions& options, RoomTypeTrainingSummary* summary);
+
+// The variants `semvox train` learns weights for (Table II rows and their phi_cnn counterparts).
+std::vector<RoomTypeVariant> AllRoomTypeVariants();
+
+}  // namespace semvox

@@ -1,0 +1,290 @@
+// Room-type CRF (rooms/room_type_crf.h). Tolerances and floors stated per test:
+//  - Gibbs marginals on a 4-node, 12-label model within 0.03 (max abs) of exact enumeration (20000 sweeps);
+//  - view cones: no cell behind a wall is covered, every free cell well inside the cone in front is;
+//  - object potential: bathroom wins for cells near a toilet and a sink (statistics from generated apartments);
+//  - generated validation apartment 100 with its ground-truth top view and a synthetic noisy scene distribution
+//    (each view reports its room's true type with probability 0.5, else a random other type): the Gibbs CRF
+//    (conf + stat + obj) reaches per-pixel accuracy >= 0.75 and does not fall below majority voting - 0.05;
+//  - baselines: majority voting takes a segment's most voted type; the dense CRF pulls a weak node to its
+//    confident neighbours within the segment.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <random>
+
+#include "rooms/room_type_crf.h"
+#include "rooms/room_type_training.h"
+#include "scenegen/apartment.h"
+
+namespace semvox {
+namespace {
+
+using Dist = std::array<double, kRoomTypeLabels>;
+
+Dist Peaked(int index, double mass) {
+  Dist d;
+  d.fill((1 - mass) / (kRoomTypeLabels - 1));
+  d[size_t(index)] = mass;
+  return d;
+}
+
+// A free rectangle of w x h cells at 0.05 m with a wall border; walls added by the caller.
+FloorPlan OpenPlan(int w, int h) {
+  FloorPlan p;
+  p.resolution_m = 0.05;
+  p.cells = Image<uint8_t>(w, h, 1, uint8_t(FloorCell::kFree));
+  p.ceiling_height_m = ImageF32(w, h, 1, 2.5f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (x == 0 || y == 0 || x == w - 1 || y == h - 1) p.cells.at(x, y) = uint8_t(FloorCell::kWall);
+  return p;
+}
+
+// Rooms: 1 left of column `split_x`, 2 right (walls excluded); room_extent_ids == room_ids.
+RoomSegmentation TwoRooms(const FloorPlan& p, int split_x) {
+  RoomSegmentation r;
+  r.room_ids = ImageU16(p.width(), p.height(), 1, 0);
+  for (int y = 0; y < p.height(); ++y)
+    for (int x = 0; x < p.width(); ++x)
+      if (p.IsFloor(x, y)) r.room_ids.at(x, y) = x < split_x ? 1 : 2;
+  r.room_extent_ids = r.room_ids;
+  r.num_rooms = split_x < p.width() ? 2 : 1;
+  return r;
+}
+
+TEST(RoomTypeCrf, GibbsMarginalsMatchExactEnumerationOnATinyModel) {
+  RoomTypeGraph g;
+  g.width = 4, g.height = 1;
+  g.node_of_pixel = {0, 1, 2, 3};
+  g.position = {{0, 0}, {0.5, 0}, {1.0, 0}, {1.5, 0}};
+  g.segment = {1, 1, 2, 2};
+  g.pixels = {1, 1, 1, 1};
+  g.scene = {Peaked(0, 0.5), Peaked(1, 0.4), Peaked(1, 0.3), Dist{}};
+  g.scene[3].fill(1.0 / kRoomTypeLabels);
+  g.objects.assign(4, {});
+  for (auto& o : g.objects)
+    for (auto& d : o) d.fill(0);
+  g.objects[2][2][5] = 0.8;  // An object cue for index 5 on node 2.
+  g.neighbours.assign(4, {});
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (i != j) g.neighbours[size_t(i)].emplace_back(j, float((g.position[size_t(i)] - g.position[size_t(j)]).norm()));
+  g.pair_normaliser = 1;
+  const RoomTypeModel model = RoomTypeModel::Uninformative();
+  RoomTypeCrfOptions o;
+  o.variant = {ScenePotential::kCnn, HomogeneityPotential::kGaussian, true};
+  o.gauss_sigma_m = 1.0;
+  o.burn_in_sweeps = 200;
+  o.sample_sweeps = 20000;
+  o.seed = 42;
+  RoomTypeWeights w;
+  w.scene = 3.0, w.objects = {1, 1, 2, 1}, w.homogeneity = 1.2;
+  const RoomTypeEnergy e{&g, &model, o.variant, w, o};
+  const auto exact = ExactMarginals(e);
+  const auto gibbs = GibbsMarginals(e, o);
+  double worst = 0;
+  for (size_t i = 0; i < 4; ++i) {
+    double s = 0;
+    for (int y = 0; y < kRoomTypeLabels; ++y) {
+      worst = std::max(worst, std::fabs(exact[i][size_t(y)] - gibbs[i][size_t(y)]));
+      s += gibbs[i][size_t(y)];
+    }
+    EXPECT_NEAR(s, 1.0, 1e-9);
+  }
+  EXPECT_LT(worst, 0.03);
+  // The pair term matters here: the exact marginals differ from the unaries' own softmax.
+  EXPECT_GT(exact[1][0], 0.05);
+}
+
+TEST(RoomTypeCrf, ViewConeStopsAtWalls) {
+  FloorPlan p = OpenPlan(120, 60);  // 6 m x 3 m.
+  for (int y = 0; y < 60; ++y) p.cells.at(60, y) = uint8_t(FloorCell::kWall);  // A wall at x = 3 m, no door.
+  ViewRoomEvidence v;
+  v.position = {1.0, 1.5, 1.6};
+  v.yaw_rad = 0;  // Looking along +x, at the wall.
+  v.hfov_rad = M_PI / 2;
+  v.max_range_m = 10;
+  const Image<uint16_t> cover = ProjectViewCones(p, {v});
+  int behind = 0, in_front_missing = 0;
+  for (int y = 1; y < 59; ++y)
+    for (int x = 61; x < 119; ++x) behind += cover.at(x, y) > 0;
+  EXPECT_EQ(behind, 0);
+  // In front: cells with x in (1.3, 2.9) m and |y - 1.5| < 0.5 (x - 1) * tan(45 deg) are inside the cone.
+  for (int y = 1; y < 59; ++y)
+    for (int x = 26; x < 58; ++x) {
+      const double wx = (x + 0.5) * 0.05, wy = (60 - y - 0.5) * 0.05;
+      if (std::fabs(wy - 1.5) < 0.8 * (wx - 1.0) && wy > 0.1 && wy < 2.9) in_front_missing += cover.at(x, y) == 0;
+    }
+  EXPECT_EQ(in_front_missing, 0);
+  EXPECT_EQ(cover.at(10, 30), 0);  // Behind the camera (x = 0.5 m).
+  // A door in the wall lets the cone through, but only along lines of sight through the gap.
+  for (int y = 27; y < 33; ++y) p.cells.at(60, y) = uint8_t(FloorCell::kDoor);
+  const Image<uint16_t> through = ProjectViewCones(p, {v});
+  EXPECT_GT(through.at(80, 30), 0);   // Straight through the door.
+  EXPECT_EQ(through.at(80, 5), 0);    // Behind the wall, off the door's line of sight.
+}
+
+TEST(RoomTypeCrf, ObjectPotentialPicksBathroomForToiletAndSink) {
+  ObjectRoomCounts counts;
+  for (uint64_t seed = 0; seed < 10; ++seed) {
+    ApartmentOptions ao;
+    ao.seed = seed;
+    Result<Apartment> a = GenerateApartment(ao);
+    ASSERT_TRUE(a.ok()) << a.status().message();
+    counts.Add(CountApartmentObjects(*a));
+  }
+  RoomTypeModel model = RoomTypeModel::Uninformative();
+  model.object_type = ObjectTypeStatistics(counts);
+  FloorPlan p = OpenPlan(60, 60);
+  const RoomSegmentation rooms = TwoRooms(p, 60);
+  Image<uint16_t> top(60, 60, 1, 0);
+  for (int y = 10; y < 18; ++y)
+    for (int x = 10; x < 16; ++x) top.at(x, y) = 33;  // Toilet.
+  for (int y = 10; y < 14; ++y)
+    for (int x = 30; x < 38; ++x) top.at(x, y) = 34;  // Sink.
+  RoomTypeCrfOptions o;
+  o.variant = {ScenePotential::kCnn, HomogeneityPotential::kNone, true};
+  Result<RoomTypeGraph> g = BuildRoomTypeGraph(p, rooms, {}, top, model, o);
+  ASSERT_TRUE(g.ok()) << g.status().message();
+  RoomTypeWeights w;
+  w.scene = 0;
+  const RoomTypeEnergy e{&*g, &model, o.variant, w, o};
+  Dist total{};
+  for (size_t n = 0; n < g->segment.size(); ++n)
+    for (int y = 0; y < kRoomTypeLabels; ++y) total[size_t(y)] += e.Unary(int(n), y) * g->pixels[n];
+  EXPECT_EQ(std::max_element(total.begin(), total.end()) - total.begin(), 0) << "bathroom is index 0";
+}
+
+TEST(RoomTypeCrf, BaselinesFollowTheirDefinitions) {
+  FloorPlan p = OpenPlan(80, 40);
+  for (int y = 0; y < 40; ++y) p.cells.at(40, y) = uint8_t(FloorCell::kWall);
+  const RoomSegmentation rooms = TwoRooms(p, 40);
+  // Room 1 (x < 2 m): two views say kitchen (index 5), one says bedroom (index 1); room 2 sees nothing.
+  ViewRoomEvidence a, b, c;
+  a.position = {0.2, 1.0, 1.6}, a.yaw_rad = 0, a.hfov_rad = 1.0, a.max_range_m = 5, a.p = Peaked(5, 0.6);
+  b = a, b.yaw_rad = 0.3;
+  c = a, c.yaw_rad = -0.3, c.p = Peaked(1, 0.9);
+  RoomTypeCrfOptions o;
+  const RoomTypeModel model = RoomTypeModel::Uninformative();
+  Result<RoomTypeGraph> g = BuildRoomTypeGraph(p, rooms, {a, b, c}, {}, model, o);
+  ASSERT_TRUE(g.ok());
+  const auto mv = MajorityVoting(*g);
+  for (size_t n = 0; n < mv.size(); ++n) {
+    if (g->segment[n] == 1) EXPECT_EQ(mv[n][5], 1.0);
+    else EXPECT_EQ(*std::max_element(mv[n].begin(), mv[n].end()), 0.0);  // No votes: no type.
+  }
+  // Dense CRF: without pair weights each node keeps its most confident view (bedroom where c covers it);
+  // with a strong same-segment kernel, nodes seen only by a, b follow... the segment agrees on one label.
+  const auto raw = DenseGaussianCrf(*g, DenseCrfParams{0, 1.5, 0, 0.5});
+  bool some_bedroom = false;
+  for (size_t n = 0; n < raw.size(); ++n)
+    if (g->covered[n] && g->segment[n] == 1) some_bedroom |= std::max_element(raw[n].begin(), raw[n].end()) - raw[n].begin() == 1;
+  EXPECT_TRUE(some_bedroom);
+  const auto smooth = DenseGaussianCrf(*g, DenseCrfParams{200, 3.0, 0, 0.5}, 20);
+  std::array<int, kRoomTypeLabels> labels_in_room1{};
+  for (size_t n = 0; n < smooth.size(); ++n)
+    if (g->segment[n] == 1) ++labels_in_room1[size_t(std::max_element(smooth[n].begin(), smooth[n].end()) - smooth[n].begin())];
+  EXPECT_EQ(std::count_if(labels_in_room1.begin(), labels_in_room1.end(), [](int c) { return c > 0; }), 1);
+}
+
+TEST(RoomTypeCrf, SplitsARoomWhoseHalvesDisagree) {
+  FloorPlan p = OpenPlan(120, 60);  // One 6 m x 3 m room.
+  const RoomSegmentation rooms = TwoRooms(p, 1000);
+  RoomTypeCrfOptions o;
+  const RoomTypeModel model = RoomTypeModel::Uninformative();
+  Result<RoomTypeGraph> g = BuildRoomTypeGraph(p, rooms, {}, {}, model, o);
+  ASSERT_TRUE(g.ok());
+  std::vector<Dist> m(g->segment.size());
+  for (size_t n = 0; n < m.size(); ++n) m[n] = Peaked(g->position[n].x() < 3.5 ? 5 : 1, 0.8);  // Kitchen | bedroom.
+  const RoomTypeResult r = AssignRoomTypes(*g, rooms, p, m, o);
+  EXPECT_EQ(r.splits, 1);
+  ASSERT_EQ(r.assignments.size(), 2u);
+  EXPECT_EQ(r.assignments[0].type_id, 6);  // Kitchen keeps the id (the larger part).
+  EXPECT_EQ(r.assignments[1].type_id, 2);
+  EXPECT_EQ(r.assignments[1].source_room, 1);
+  EXPECT_GT(r.assignments[0].probability, 0.75);
+  // Without enough support (min_split_probability above the marginal) the room stays whole, with a second type.
+  o.min_split_probability = 0.9;
+  const RoomTypeResult whole = AssignRoomTypes(*g, rooms, p, m, o);
+  EXPECT_EQ(whole.splits, 0);
+  ASSERT_EQ(whole.assignments.size(), 1u);
+  EXPECT_EQ(whole.assignments[0].second_type_id, 2);
+  EXPECT_GT(whole.assignments[0].second_probability, 0.3);
+}
+
+TEST(RoomTypeCrf, ModelRoundTripsThroughJson) {
+  RoomTypeModel m = RoomTypeModel::Uninformative();
+  m.confusion[3][4] = 0.25;
+  m.object_type[33][0] = 0.9;
+  RoomTypeWeights w;
+  w.scene = 2.5, w.objects = {0.1, 0.2, 0.3, 0.4}, w.homogeneity = 0.7;
+  m.SetWeights(RoomTypeVariant{}, w);
+  const std::string path = (std::filesystem::temp_directory_path() / "semvox_room_type_model_test.json").string();
+  ASSERT_TRUE(SaveRoomTypeModel(m, path).ok());
+  Result<RoomTypeModel> back = LoadRoomTypeModel(path);
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_EQ(back->confusion[3][4], 0.25);
+  EXPECT_EQ(back->object_type[33][0], 0.9);
+  EXPECT_EQ(back->WeightsFor(RoomTypeVariant{}).homogeneity, 0.7);
+  EXPECT_EQ(back->WeightsFor(RoomTypeVariant{}).objects[3], 0.4);
+  std::filesystem::remove(path);
+  EXPECT_FALSE(LoadRoomTypeModel(path).ok());
+}
+
+TEST(RoomTypeCrf, GeneratedApartmentWithNoisyScenesBeatsTheFloor) {
+  // Statistics from training apartments 0-9 (ground truth only), evidence synthetic.
+  std::vector<RoomTypeTrainingScene> train;
+  ObjectRoomCounts counts;
+  for (uint64_t seed = 0; seed < 10; ++seed) {
+    Result<RoomTypeTrainingScene> s = RoomTypeSceneFromApartment(seed);
+    ASSERT_TRUE(s.ok());
+    train.push_back(std::move(s).value());
+    ApartmentOptions ao;
+    ao.seed = seed;
+    counts.Add(CountApartmentObjects(*GenerateApartment(ao)));
+  }
+  RoomTypeCrfOptions o;
+  RoomTypeModel model = RoomTypeModel::Uninformative();
+  model.object_type = ObjectTypeStatistics(counts);
+  LearnHomogeneityStatistics(train, o, &model);
+  ApartmentOptions ao;
+  ao.seed = 100;
+  Result<Apartment> apt = GenerateApartment(ao);
+  ASSERT_TRUE(apt.ok());
+  Result<RoomTypeTrainingScene> val = RoomTypeSceneFromApartment(100);
+  ASSERT_TRUE(val.ok());
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<ViewRoomEvidence> views;
+  for (const RoomGt& r : apt->rooms)
+    for (int h = 0; h < 4; ++h) {
+      ViewRoomEvidence v;
+      v.position = {0.5 * (r.x0 + r.x1), 0.5 * (r.y0 + r.y1), 1.6};
+      v.yaw_rad = h * M_PI / 2, v.hfov_rad = M_PI / 3, v.max_range_m = 8;
+      int said = r.type_id - 1;
+      if (u(rng) >= 0.5) said = (said + 1 + int(u(rng) * (kRoomTypeLabels - 1))) % kRoomTypeLabels;
+      v.p = Peaked(said, 0.5);
+      views.push_back(v);
+    }
+  o.variant = {ScenePotential::kConfusion, HomogeneityPotential::kStatistics, true};
+  model.SetWeights(o.variant, RoomTypeWeights{4.0, {1, 1, 2, 1}, 1.0});
+  Result<RoomTypeResult> crf = InferRoomTypes(val->plan, val->rooms, views, val->topview, model, o);
+  Result<RoomTypeResult> mv = InferRoomTypes(val->plan, val->rooms, views, val->topview, model, o, RoomTypeMethod::kMajorityVoting);
+  ASSERT_TRUE(crf.ok() && mv.ok());
+  RoomTypeAccuracy acc_crf, acc_mv;
+  acc_crf.Add(crf->pixel_types, val->truth);
+  acc_mv.Add(mv->pixel_types, val->truth);
+  std::printf("apartment 100, noisy scenes: CRF %.3f / %.3f, majority voting %.3f / %.3f (global / average)\n", acc_crf.Global(),
+              acc_crf.Average(), acc_mv.Global(), acc_mv.Average());
+  EXPECT_GE(acc_crf.Global(), 0.75);
+  EXPECT_GE(acc_crf.Global(), acc_mv.Global() - 0.05);
+  // Every room gets a type, a probability in (0, 1] and a different second type.
+  for (const RoomTypeAssignment& a : crf->assignments) {
+    EXPECT_GE(a.type_id, 1);
+    EXPECT_GT(a.probability, 0.0);
+    EXPECT_NE(a.second_type_id, a.type_id);
+  }
+}
+
+}  // namespace
+}  // namespace semvox
