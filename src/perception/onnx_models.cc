@@ -1,5 +1,6 @@
 #include "perception/onnx_models.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -228,33 +229,54 @@ Result<cv::Mat> Forward(const Network& network, const ImageRgb8& rgb) {
 }
 
 // Turns C scores of each of n pixels (plane-major: value of class k at pixel i is scores[k * n + i]) into
-// probabilities in place, per OnnxOutputKind.
+// probabilities in place, per OnnxOutputKind. Loops run along the planes (contiguous) in blocks of pixels.
 void ToProbabilities(float* scores, int num_classes, size_t n, OnnxOutputKind kind) {
   const size_t C = size_t(num_classes);
   if (kind == OnnxOutputKind::kAuto) {
-    bool probabilities = true;
-    for (size_t i = 0; i < n && probabilities; ++i) {
-      double sum = 0;
-      for (size_t k = 0; k < C; ++k) {
-        const float v = scores[k * n + i];
-        if (!(v >= -1e-6f && v <= 1.0f + 1e-6f)) probabilities = false;
-        sum += v;
+    bool in_range = true;
+    std::vector<double> sum(n, 0.0);
+    for (size_t k = 0; k < C; ++k) {
+      const float* s = scores + k * n;
+      for (size_t i = 0; i < n; ++i) {
+        in_range &= s[i] >= -1e-6f && s[i] <= 1.0f + 1e-6f;
+        sum[i] += s[i];
       }
-      if (std::abs(sum - 1.0) > 1e-3) probabilities = false;
     }
-    kind = probabilities ? OnnxOutputKind::kProbabilities : OnnxOutputKind::kLogits;
+    bool sums_to_one = in_range;
+    for (size_t i = 0; i < n && sums_to_one; ++i) sums_to_one = std::abs(sum[i] - 1.0) <= 1e-3;
+    kind = sums_to_one ? OnnxOutputKind::kProbabilities : OnnxOutputKind::kLogits;
   }
-  tbb::parallel_for(size_t(0), n, [&](size_t i) {
-    if (kind == OnnxOutputKind::kLogits) {
-      float top = -INFINITY;
-      for (size_t k = 0; k < C; ++k) top = std::max(top, scores[k * n + i]);
-      double sum = 0;
-      for (size_t k = 0; k < C; ++k) sum += (scores[k * n + i] = std::exp(scores[k * n + i] - top));
-      for (size_t k = 0; k < C; ++k) scores[k * n + i] = float(scores[k * n + i] / sum);
-    } else {
-      double sum = 0;
-      for (size_t k = 0; k < C; ++k) sum += (scores[k * n + i] = std::max(0.0f, scores[k * n + i]));
-      for (size_t k = 0; k < C; ++k) scores[k * n + i] = sum > 0 ? float(scores[k * n + i] / sum) : float(1.0 / double(C));
+  const bool logits = kind == OnnxOutputKind::kLogits;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
+    const size_t b = r.begin(), m = r.end() - r.begin();
+    std::vector<float> top(m, -INFINITY);
+    std::vector<double> sum(m, 0.0);
+    if (logits) {
+      for (size_t k = 0; k < C; ++k) {
+        const float* s = scores + k * n + b;
+        for (size_t j = 0; j < m; ++j) top[j] = std::max(top[j], s[j]);
+      }
+    }
+    for (size_t k = 0; k < C; ++k) {
+      float* s = scores + k * n + b;
+      if (logits) {
+        for (size_t j = 0; j < m; ++j) s[j] = std::exp(s[j] - top[j]);
+      } else {
+        for (size_t j = 0; j < m; ++j) s[j] = std::max(0.0f, s[j]);
+      }
+      for (size_t j = 0; j < m; ++j) sum[j] += s[j];
+    }
+    bool all_positive = true;
+    for (size_t j = 0; j < m; ++j) {
+      all_positive &= sum[j] > 0;
+      sum[j] = sum[j] > 0 ? 1.0 / sum[j] : 0.0;
+    }
+    for (size_t k = 0; k < C; ++k) {
+      float* s = scores + k * n + b;
+      for (size_t j = 0; j < m; ++j) s[j] = float(s[j] * sum[j]);
+      if (!all_positive)  // Pixels with no mass at all (probabilities that are all 0): uniform.
+        for (size_t j = 0; j < m; ++j)
+          if (sum[j] == 0) s[j] = float(1.0 / double(C));
     }
   });
 }
