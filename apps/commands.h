@@ -115,4 +115,14 @@ struct TrainArgs {
 // `semvox train`: per-view classifiers (k-NN unaries, tree and union CRFs) from generated apartments.
 Status RunTrain(const TrainArgs& args);
 
+// ---- report and labels (apps/report_command.cc, apps/labels_command.cc) ----
+struct ReportArgs {
+  std::string outdir;  // OUTDIR of a `semvox run`.
+};
+// `semvox report`: (re)writes OUTDIR/report.html (src/report/report.h).
+Status RunReport(const ReportArgs& args);
+// `semvox labels`: NYU40 classes with their Eigen-13 and NYU-4 classes, and the room types, as Markdown.
+std::string LabelsMarkdown();
+Status RunLabels();
+
 }  // namespace semvox

@@ -110,6 +110,11 @@ int main(int argc, char** argv) {
   rooms_cmd->add_option("--gt", rooms_args.ground_truth_path, "ground truth (ipa _gt_segmentation.png): print recall and precision");
   rooms_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
   bool dump = false;
+  semvox::ReportArgs report;
+  CLI::App* report_cmd = app.add_subcommand("report", "(re)write OUTDIR/report.html from a run's outputs");
+  report_cmd->add_option("outdir", report.outdir, "output directory of semvox run")->required();
+  report_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
+  CLI::App* labels_cmd = app.add_subcommand("labels", "print the NYU40 classes, their 13/4-class mappings and the room types (Markdown)");
   std::string check_path;
   semvox::BatchArgs batch;
   CLI::App* batch_cmd = app.add_subcommand("batch", "run many scans listed in MANIFEST into ROOT (resumable)");
@@ -147,6 +152,8 @@ int main(int argc, char** argv) {
     if (*rooms_cmd) return Report(semvox::RunRooms(rooms_args));
     if (*render_cmd) return Report(semvox::RunRender(render));
     if (*train_cmd) return Report(semvox::RunTrain(train));
+    if (*report_cmd) return Report(semvox::RunReport(report));
+    if (*labels_cmd) return Report(semvox::RunLabels());
     if (*config_cmd) {
       semvox::PipelineConfig config;
       if (!check_path.empty()) {

@@ -6,6 +6,10 @@ PACKAGES=(build-essential cmake ninja-build ccache lld pkg-config git
   libembree-dev libtbb-dev libnanoflann-dev libsvm-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev libboost-dev
   python3-onnx python3-numpy)  # python3-onnx: the ONNX backend tests write tiny networks (Debian python3).
+# Test-only packages, added with --test (scripts/test.sh; the demo does not need them): chromium loads
+# report.html headless in tests/report.
+TEST_PACKAGES=(chromium)
+if [ "${1:-}" = "--test" ]; then PACKAGES+=("${TEST_PACKAGES[@]}"); fi
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -2,6 +2,7 @@
 # Installs what is missing, builds, and runs the whole test suite (ctest).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+./scripts/setup-deps.sh --test  # also the test-only packages (chromium)
 ./scripts/build.sh
 BUILD_DIR=${SEMVOX_BUILD_DIR:-build}
 cd "$BUILD_DIR"
