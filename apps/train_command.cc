@@ -6,7 +6,7 @@
 // The k-NN models learn from the training seeds but the last `crf-holdout` ones; the CRF weights are then
 // learned (negative log pseudo-likelihood) on those held-out seeds, whose k-NN unaries are not
 // self-matches. Writes OUT/{nyu4,second}.{image_knn,full_knn}.bin, OUT/{nyu4,second}.crf_weights.txt and
-// OUT/train_report.json
+// OUT/support_clutter.svm and OUT/object_proposals.svm (issue 8), OUT/train_report.json
 // (per level and method: pixel-wise global accuracy, average recall and per-class recall on the
 // validation views). Deterministic: the same seeds give the same bytes.
 #include <nlohmann/json.hpp>
@@ -21,6 +21,8 @@
 #include "apps/commands.h"
 #include "core/file_util.h"
 #include "core/log.h"
+#include "objects/proposal_training.h"
+#include "objects/support_training.h"
 #include "perception/crf_learning.h"
 #include "perception/room_evidence.h"
 #include "perception/training_data.h"
@@ -267,6 +269,33 @@ Status RunTrain(const TrainArgs& args) {
       if (k == 2) report["levels"][levels[l].name][methods[k]]["loopy_bp_converged_views"] = union_converged[l];
       std::printf("  %-9s global %.3f  average %.3f\n", methods[k], cms[l][size_t(k)].GlobalAccuracy(), cms[l][size_t(k)].AverageRecall());
     }
+  }
+  // Support / clutter / other (issue 8, src/objects): RBF SVM on the support/clutter paper's Table 2 features
+  // of every training view, scored with and without the dense CRF on the validation views.
+  {
+    SupportTrainingOptions support;
+    support.train_seeds = train_seeds;
+    support.train_seeds.insert(support.train_seeds.end(), crf_seeds.begin(), crf_seeds.end());
+    support.val_seeds = val_seeds;
+    SupportTrainingSummary summary;
+    Result<SupportClutterClassifier> support_clf = TrainSupportClutter(support, &summary);
+    if (!support_clf.ok()) return support_clf.status();
+    SEMVOX_RETURN_IF_ERROR(support_clf->Save(args.outdir + "/support_clutter.svm"));
+    report["support_clutter"] = summary.ToJson();
+    std::printf("support/clutter, %d validation views: support recall %.3f IoU %.3f, clutter recall %.3f IoU %.3f (SVM + dense CRF)\n",
+                summary.val_views, ClassRecall(summary.crf, kSupportSurface), ClassIoU(summary.crf, kSupportSurface),
+                ClassRecall(summary.crf, kClutter), ClassIoU(summary.crf, kClutter));
+    // Generic object proposals (MST-CRF paper, Sec. 4) with the NYU-4 classifier's probabilities.
+    ProposalTrainingOptions proposal;
+    proposal.train_seeds = support.train_seeds;
+    proposal.val_seeds = val_seeds;
+    ProposalTrainingSummary proposal_summary;
+    Result<ObjectProposer> proposer = TrainObjectProposer(proposal, classifiers[0], &proposal_summary);
+    if (!proposer.ok()) return proposer.status();
+    SEMVOX_RETURN_IF_ERROR(proposer->Save(args.outdir + "/object_proposals.svm"));
+    report["object_proposals"] = proposal_summary.ToJson();
+    std::printf("object proposals: detection rate %.3f at 5 false positives per image (sampled), speed-up of features + SVM x%.2f\n",
+                proposal_summary.sampled.DetectionRateAt(5.0), proposal_summary.ToJson()["speedup_features_svm"].get<double>());
   }
   SEMVOX_INFO("train: " << std::round(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count())
                          << " s; models and train_report.json in " << args.outdir);

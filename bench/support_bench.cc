@@ -1,0 +1,224 @@
+// Support / clutter / other (issue 8): permutohedral against brute-force mean-field, and per-view cost.
+//
+//   support_bench [--model models/support_clutter.svm] [--seed 100] [--repeats 3]
+//   support_bench --train OUT.svm [--train-seeds 0-39] [--val-seeds 100-109]   (same as `semvox train`'s step)
+//
+// 1. Small image (64 x 48, a generated validation view): mean-field marginals with the lattice and with
+//    exact O(n^2) kernel sums; max and mean |dQ|, argmax disagreements, both times.
+// 2. 640 x 480: the lattice's mean-field time; brute force's time extrapolated from the exact messages of
+//    `--sample` pixels (n^2 is ~10^11 kernel evaluations per kernel and iteration at this size).
+// 3. Per-view cost of the whole classifier at 640 x 480 (superpixels, features, SVM, CRF), when a model is given.
+// A/B runs are interleaved within one process; the machine is shared, so read ratios, not absolute times.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <string>
+
+#include "objects/proposal_training.h"
+#include "objects/support_training.h"
+
+using namespace semvox;
+
+namespace {
+
+double Ms(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<uint64_t> Seeds(const std::string& text) {
+  std::vector<uint64_t> out;
+  const size_t dash = text.find('-');
+  if (dash == std::string::npos) return {std::stoull(text)};
+  for (uint64_t s = std::stoull(text.substr(0, dash)); s <= std::stoull(text.substr(dash + 1)); ++s) out.push_back(s);
+  return out;
+}
+
+// The first view of apartment `seed` with support pixels, at width x height.
+bool FirstView(uint64_t seed, int width, int height, RenderedView* view, Image<int32_t>* truth) {
+  TrainingViewsOptions views;
+  views.width = width, views.height = height;
+  bool found = false;
+  Status st = ForEachSupportView(seed, views, SupportTruthOptions{}, [&](const SupportView& v) {
+    if (found) return Status::Ok();
+    int support = 0;
+    for (int32_t c : v.truth->data) support += c == kSupportSurface;
+    if (support < int(v.truth->data.size() / 50)) return Status::Ok();
+    *view = *v.view;
+    *truth = *v.truth;
+    found = true;
+    return Status::Ok();
+  });
+  return st.ok() && found;
+}
+
+// Unary: the SVM's when a model is given, else the truth blurred with noise (60% on the true class).
+std::vector<float> Unary(const RenderedView& view, const Image<int32_t>& truth, const SupportClutterClassifier* clf) {
+  const size_t n = truth.data.size();
+  std::vector<float> p(n * kNumSupportClasses);
+  if (clf) {
+    SupportClutterOptions o = clf->options();
+    Result<SupportClutterView> out = clf->Classify(view);
+    if (out.ok()) {
+      for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < kNumSupportClasses; ++c)
+          p[i * kNumSupportClasses + size_t(c)] = float(out->superpixel_probabilities[size_t(out->superpixels.label.data[i]) * kNumSupportClasses + size_t(c)]);
+      return p;
+    }
+  }
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(0.f, 0.4f);
+  for (size_t i = 0; i < n; ++i) {
+    float s = 0;
+    for (int c = 0; c < kNumSupportClasses; ++c) s += (p[i * 3 + size_t(c)] = (truth.data[i] == c ? 0.6f : 0.f) + u(rng));
+    for (int c = 0; c < kNumSupportClasses; ++c) p[i * 3 + size_t(c)] /= s;
+  }
+  return p;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string model, proposals_out, nyu4_prefix = std::string(SEMVOX_SOURCE_DIR) + "/models/nyu4", train_out, train_seeds = "0-39", val_seeds = "100-109";
+  uint64_t seed = 100;
+  int repeats = 3, sample = 400, region_px = 0;
+  double crf_weight_scale = 1.0, svm_c = 0, svm_gamma = 0;
+  int other_rows = 0, balance = -1;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i];
+    if (a == "--model") model = argv[i + 1];
+    else if (a == "--seed") seed = std::stoull(argv[i + 1]);
+    else if (a == "--repeats") repeats = std::atoi(argv[i + 1]);
+    else if (a == "--sample") sample = std::atoi(argv[i + 1]);
+    else if (a == "--train") train_out = argv[i + 1];
+    else if (a == "--train-proposals") proposals_out = argv[i + 1];
+    else if (a == "--nyu4") nyu4_prefix = argv[i + 1];
+    else if (a == "--region-px") region_px = std::atoi(argv[i + 1]);
+    else if (a == "--crf-weight-scale") crf_weight_scale = std::atof(argv[i + 1]);
+    else if (a == "--svm-c") svm_c = std::atof(argv[i + 1]);
+    else if (a == "--other-rows") other_rows = std::atoi(argv[i + 1]);
+    else if (a == "--balance") balance = std::atoi(argv[i + 1]);
+    else if (a == "--svm-gamma") svm_gamma = std::atof(argv[i + 1]);
+    else if (a == "--train-seeds") train_seeds = argv[i + 1];
+    else if (a == "--val-seeds") val_seeds = argv[i + 1];
+    else { std::fprintf(stderr, "support_bench: unknown option %s\n", a.c_str()); return 2; }
+  }
+  if (!proposals_out.empty()) {
+    Result<ViewClassifier> nyu4 = ViewClassifier::Load(nyu4_prefix, ViewClassifierOptions{});
+    if (!nyu4.ok()) { std::fprintf(stderr, "support_bench: %s\n", nyu4.status().message().c_str()); return 2; }
+    ProposalTrainingOptions options;
+    options.train_seeds = Seeds(train_seeds);
+    options.val_seeds = Seeds(val_seeds);
+    ProposalTrainingSummary summary;
+    Result<ObjectProposer> det = TrainObjectProposer(options, *nyu4, &summary);
+    if (!det.ok()) { std::fprintf(stderr, "support_bench: %s\n", det.status().message().c_str()); return 1; }
+    Status st = det->Save(proposals_out);
+    if (!st.ok()) { std::fprintf(stderr, "support_bench: %s\n", st.message().c_str()); return 1; }
+    std::printf("%s\n", summary.ToJson().dump(2).c_str());
+    return 0;
+  }
+  if (!train_out.empty()) {
+    SupportTrainingOptions options;
+    options.train_seeds = Seeds(train_seeds);
+    options.val_seeds = Seeds(val_seeds);
+    // Tuning knobs (defaults: the library's).
+    if (region_px > 0) options.classifier.superpixels.region_size_px = region_px;
+    DenseCrfOptions& crf = options.classifier.crf;
+    crf.appearance_weight *= crf_weight_scale, crf.smoothness_weight *= crf_weight_scale;
+    crf.height_weight *= crf_weight_scale, crf.normal_weight *= crf_weight_scale;
+    if (svm_c > 0) options.svm.c = svm_c;
+    if (svm_gamma > 0) options.svm.gamma = svm_gamma;
+    if (other_rows > 0) options.max_other_rows = other_rows;
+    if (balance >= 0) options.svm.balance_classes = balance != 0;
+    SupportTrainingSummary summary;
+    Result<SupportClutterClassifier> clf = TrainSupportClutter(options, &summary);
+    if (!clf.ok()) { std::fprintf(stderr, "support_bench: %s\n", clf.status().message().c_str()); return 1; }
+    Status st = clf->Save(train_out);
+    if (!st.ok()) { std::fprintf(stderr, "support_bench: %s\n", st.message().c_str()); return 1; }
+    std::printf("%s\n", summary.ToJson().dump(2).c_str());
+    return 0;
+  }
+  std::unique_ptr<SupportClutterClassifier> clf;
+  if (!model.empty()) {
+    Result<SupportClutterClassifier> loaded = SupportClutterClassifier::Load(model, SupportClutterOptions{});
+    if (!loaded.ok()) { std::fprintf(stderr, "support_bench: %s\n", loaded.status().message().c_str()); return 2; }
+    clf = std::make_unique<SupportClutterClassifier>(std::move(loaded).value());
+  }
+  // 1. Small image: lattice against exact sums.
+  {
+    RenderedView view;
+    Image<int32_t> truth;
+    if (!FirstView(seed, 64, 48, &view, &truth)) { std::fprintf(stderr, "support_bench: no view with support in seed %llu\n", (unsigned long long)seed); return 1; }
+    DenseCrfOptions o;
+    o.position_scale_px = o.position_scale_px * 64 / 640;  // theta_beta scales with the image (40 px at 640).
+    o.smoothness_scale_px = 1.0;
+    const ImageF32 height = PixelHeights(view);
+    Result<DenseCrf> crf = DenseCrf::Create({&view.rgb, &height, &view.normal}, o);
+    const std::vector<float> p = Unary(view, truth, clf.get());
+    double t_fast = 0, t_brute = 0;
+    std::vector<float> fast, brute;
+    for (int r = 0; r < repeats; ++r) {
+      auto t0 = std::chrono::steady_clock::now();
+      fast = crf->MeanField(p, kNumSupportClasses, false);
+      t_fast += Ms(t0) / repeats;
+      t0 = std::chrono::steady_clock::now();
+      brute = crf->MeanField(p, kNumSupportClasses, true);
+      t_brute += Ms(t0) / repeats;
+    }
+    double max_d = 0, mean_d = 0;
+    int disagree = 0;
+    const size_t n = truth.data.size();
+    for (size_t i = 0; i < n; ++i) {
+      int a = 0, b = 0;
+      for (int c = 0; c < kNumSupportClasses; ++c) {
+        const double d = std::abs(fast[i * 3 + size_t(c)] - brute[i * 3 + size_t(c)]);
+        max_d = std::max(max_d, d);
+        mean_d += d / double(3 * n);
+        if (fast[i * 3 + size_t(c)] > fast[i * 3 + size_t(a)]) a = c;
+        if (brute[i * 3 + size_t(c)] > brute[i * 3 + size_t(b)]) b = c;
+      }
+      disagree += a != b;
+    }
+    std::printf("small image 64x48 (%zu px, %d iterations, unary %s): |dQ| max %.2e mean %.2e, argmax disagreements %d; "
+                "lattice %.2f ms, brute force %.1f ms (x%.0f)\n",
+                n, o.iterations, clf ? "SVM" : "noisy truth", max_d, mean_d, disagree, t_fast, t_brute, t_brute / t_fast);
+  }
+  // 2. 640 x 480.
+  RenderedView view;
+  Image<int32_t> truth;
+  if (!FirstView(seed, 640, 480, &view, &truth)) { std::fprintf(stderr, "support_bench: no 640x480 view\n"); return 1; }
+  {
+    DenseCrfOptions o;
+    const ImageF32 height = PixelHeights(view);
+    auto t0 = std::chrono::steady_clock::now();
+    Result<DenseCrf> crf = DenseCrf::Create({&view.rgb, &height, &view.normal}, o);
+    const double t_build = Ms(t0);
+    const std::vector<float> p = Unary(view, truth, clf.get());
+    double t_fast = 0;
+    for (int r = 0; r < repeats; ++r) {
+      t0 = std::chrono::steady_clock::now();
+      std::vector<float> q = crf->MeanField(p, kNumSupportClasses, false);
+      t_fast += Ms(t0) / repeats;
+    }
+    // Brute force: exact messages of `sample` evenly spread pixels, scaled to all pixels and iterations.
+    const int n = crf->num_pixels();
+    std::vector<float> out(kNumSupportClasses);
+    t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < sample; ++k) crf->BruteForceMessage(int(int64_t(k) * n / sample), p, kNumSupportClasses, out.data());
+    const double t_brute = Ms(t0) / sample * n * o.iterations;
+    std::printf("640x480 (%d px, %d iterations): lattice build %.0f ms + mean-field %.0f ms; brute force (one core, "
+                "extrapolated from %d pixels) %.0f s: speed-up x%.0f\n",
+                n, o.iterations, t_build, t_fast, sample, t_brute / 1000, t_brute / (t_build + t_fast));
+  }
+  if (clf) {
+    double s = 0, f = 0, v = 0, c = 0;
+    for (int r = 0; r < repeats; ++r) {
+      Result<SupportClutterView> out = clf->Classify(view);
+      if (!out.ok()) return 1;
+      s += out->ms_superpixels / repeats, f += out->ms_features / repeats, v += out->ms_svm / repeats, c += out->ms_crf / repeats;
+    }
+    std::printf("per view 640x480: superpixels %.0f ms, features %.0f ms, SVM %.0f ms, CRF %.0f ms, total %.0f ms\n", s, f, v, c, s + f + v + c);
+  }
+  return 0;
+}

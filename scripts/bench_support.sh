@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Support / clutter / other (issue 8): permutohedral vs brute-force mean-field on a small image (marginal
+# difference, times) and at 640x480 (speed-up, brute force extrapolated from sampled pixels), and the
+# per-view cost of the classifier. Usage: scripts/bench_support.sh [build dir] [extra support_bench args]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD_DIR=${1:-${SEMVOX_BUILD_DIR:-build}}
+shift || true
+ninja -C "$BUILD_DIR" -j2 support_bench >/dev/null
+echo "load: $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores"
+"$BUILD_DIR/bin/support_bench" --model models/support_clutter.svm "$@"

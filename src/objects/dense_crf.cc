@@ -1,0 +1,153 @@
+#include "objects/dense_crf.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace semvox {
+
+bool DenseCrfOptions::Check(std::string* error) const {
+  auto fail = [&](const std::string& what) {
+    if (error) *error = what;
+    return false;
+  };
+  auto num = [](double v) { return std::to_string(v); };
+  if (iterations < 0 || iterations > 100) return fail("iterations = " + std::to_string(iterations) + ". Violated constraint: 0 <= iterations <= 100");
+  const std::pair<const char*, double> weights[] = {{"appearance_weight", appearance_weight}, {"smoothness_weight", smoothness_weight},
+                                                    {"height_weight", height_weight}, {"normal_weight", normal_weight}};
+  for (const auto& [name, v] : weights)
+    if (!(v >= 0)) return fail(std::string(name) + " = " + num(v) + ". Violated constraint: " + name + " >= 0");
+  const std::pair<const char*, double> scales[] = {{"position_scale_px", position_scale_px}, {"colour_scale", colour_scale},
+                                                   {"smoothness_scale_px", smoothness_scale_px}, {"height_scale_m", height_scale_m},
+                                                   {"normal_scale", normal_scale}};
+  for (const auto& [name, v] : scales)
+    if (!(v > 0)) return fail(std::string(name) + " = " + num(v) + ". Violated constraint: " + name + " > 0");
+  if (!(probability_floor > 0 && probability_floor < 0.5))
+    return fail("probability_floor = " + num(probability_floor) + ". Violated constraint: 0 < probability_floor < 0.5");
+  return true;
+}
+
+Result<DenseCrf> DenseCrf::Create(const DenseCrfInput& input, const DenseCrfOptions& options) {
+  std::string error;
+  if (!options.Check(&error)) return Status::InvalidInput("dense CRF options: " + error);
+  if (!input.rgb || input.rgb->channels != 3 || input.rgb->empty()) return Status::InvalidInput("dense CRF: need a 3-channel RGB image");
+  const int w = input.rgb->width, h = input.rgb->height;
+  if (!input.height || input.height->width != w || input.height->height != h || input.height->channels != 1)
+    return Status::InvalidInput("dense CRF: the height image must be 1 channel of the RGB image's size");
+  if (!input.normal || input.normal->width != w || input.normal->height != h || input.normal->channels != 3)
+    return Status::InvalidInput("dense CRF: the normal image must be 3 channels of the RGB image's size");
+  DenseCrf crf;
+  crf.n_ = w * h;
+  crf.options_ = options;
+  const size_t n = size_t(crf.n_);
+  auto add = [&](double weight, int dims, auto&& fill) {
+    if (weight <= 0) return;
+    Kernel k;
+    k.weight = weight;
+    k.dims = dims;
+    k.features.resize(n * size_t(dims));
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) fill(x, y, &k.features[(size_t(y) * size_t(w) + size_t(x)) * size_t(dims)]);
+    crf.kernels_.push_back(std::move(k));
+  };
+  const float sb = float(1.0 / options.position_scale_px), sv = float(1.0 / options.colour_scale);
+  const float sp = float(1.0 / options.smoothness_scale_px), sq = float(1.0 / options.height_scale_m);
+  const float sn = float(1.0 / options.normal_scale);
+  add(options.appearance_weight, 5, [&](int x, int y, float* f) {
+    f[0] = x * sb, f[1] = y * sb;
+    for (int c = 0; c < 3; ++c) f[2 + c] = input.rgb->at(x, y, c) * sv;
+  });
+  add(options.smoothness_weight, 2, [&](int x, int y, float* f) { f[0] = x * sp, f[1] = y * sp; });
+  add(options.height_weight, 3, [&](int x, int y, float* f) {
+    f[0] = x * sb, f[1] = y * sb, f[2] = input.height->at(x, y) * sq;
+  });
+  add(options.normal_weight, 5, [&](int x, int y, float* f) {
+    f[0] = x * sb, f[1] = y * sb;
+    for (int c = 0; c < 3; ++c) f[2 + c] = input.normal->at(x, y, c) * sn;
+  });
+  for (Kernel& k : crf.kernels_) k.lattice.Build(k.features.data(), crf.n_, k.dims);
+  return crf;
+}
+
+void DenseCrf::BruteForceMessage(int i, const std::vector<float>& q, int m, float* out) const {
+  std::fill(out, out + m, 0.f);
+  std::vector<double> acc(static_cast<size_t>(m));
+  for (const Kernel& k : kernels_) {
+    const float* fi = &k.features[size_t(i) * size_t(k.dims)];
+    std::fill(acc.begin(), acc.end(), 0.0);
+    double z = 0;
+    for (int j = 0; j < n_; ++j) {
+      const float* fj = &k.features[size_t(j) * size_t(k.dims)];
+      float d2 = 0;
+      for (int c = 0; c < k.dims; ++c) d2 += (fi[c] - fj[c]) * (fi[c] - fj[c]);
+      if (d2 > 60.f) continue;  // exp(-30) < 1e-13: below float resolution of these sums.
+      const double g = std::exp(-0.5 * double(d2));
+      z += g;
+      for (int l = 0; l < m; ++l) acc[size_t(l)] += g * q[size_t(j) * size_t(m) + size_t(l)];
+    }
+    for (int l = 0; l < m; ++l) out[l] += float(k.weight * acc[size_t(l)] / z);
+  }
+}
+
+void DenseCrf::Messages(const std::vector<float>& q, int m, bool brute_force, std::vector<float>* out) const {
+  out->assign(size_t(n_) * size_t(m), 0.f);
+  if (brute_force) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, n_, 16), [&](const tbb::blocked_range<int>& range) {
+      for (int i = range.begin(); i < range.end(); ++i) BruteForceMessage(i, q, m, &(*out)[size_t(i) * size_t(m)]);
+    });
+    return;
+  }
+  // One extra channel of ones gives the normaliser Z_i = sum_j k(f_i, f_j) in the same filtering pass.
+  const size_t n = size_t(n_), m1 = size_t(m) + 1;
+  std::vector<float> in(n * m1), filtered;
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t l = 0; l < size_t(m); ++l) in[i * m1 + l] = q[i * size_t(m) + l];
+    in[i * m1 + size_t(m)] = 1.f;
+  }
+  for (const Kernel& k : kernels_) {
+    k.lattice.Filter(in.data(), int(m1), &filtered);
+    const float w = float(k.weight);
+    for (size_t i = 0; i < n; ++i) {
+      const float z = filtered[i * m1 + size_t(m)];
+      if (!(z > 0)) continue;
+      for (size_t l = 0; l < size_t(m); ++l) (*out)[i * size_t(m) + l] += w * std::max(0.f, filtered[i * m1 + l]) / z;
+    }
+  }
+}
+
+std::vector<float> DenseCrf::MeanField(const std::vector<float>& probabilities, int m, bool brute_force) const {
+  const size_t n = size_t(n_);
+  std::vector<float> unary(n * size_t(m)), q(n * size_t(m));
+  const float floor = float(options_.probability_floor);
+  // Initialise Q with the normalised unary (K&K Algorithm 1), psi_u = -log p.
+  for (size_t i = 0; i < n; ++i) {
+    float s = 0;
+    for (int l = 0; l < m; ++l) s += std::max(floor, probabilities[i * size_t(m) + size_t(l)]);
+    for (int l = 0; l < m; ++l) {
+      const float p = std::max(floor, probabilities[i * size_t(m) + size_t(l)]) / s;
+      unary[i * size_t(m) + size_t(l)] = -std::log(p);
+      q[i * size_t(m) + size_t(l)] = p;
+    }
+  }
+  std::vector<float> messages;
+  for (int it = 0; it < options_.iterations; ++it) {
+    Messages(q, m, brute_force, &messages);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
+      for (size_t i = range.begin(); i < range.end(); ++i) {
+        float* qi = &q[i * size_t(m)];
+        float best = -1e30f;
+        for (int l = 0; l < m; ++l) {
+          qi[l] = -unary[i * size_t(m) + size_t(l)] + messages[i * size_t(m) + size_t(l)];
+          best = std::max(best, qi[l]);
+        }
+        float s = 0;
+        for (int l = 0; l < m; ++l) s += (qi[l] = std::exp(qi[l] - best));
+        for (int l = 0; l < m; ++l) qi[l] /= s;
+      }
+    });
+  }
+  return q;
+}
+
+}  // namespace semvox

@@ -1,0 +1,84 @@
+// The fully connected pixel CRF of the support/clutter paper (Sec. 5, Eq. 2-4), solved by mean-field
+// (Sec. 5.3, after Kraehenbuehl and Koltun 2011).
+//
+//   DenseCrfInput input{&view.rgb, &height, &normal};             // per-pixel features
+//   Result<DenseCrf> crf = DenseCrf::Create(input, DenseCrfOptions{});
+//   std::vector<float> q = crf->MeanField(unary_probabilities, 3);  // n x 3 marginals
+//
+// Energy: unary psi_u(x_i = l) = -log p_i(l) (Eq. 3 turns the SVM's probabilities into the unary; we take
+// their negative log, as Kraehenbuehl and Koltun do, so that exp(-psi_u) = p), Potts compatibility
+// mu(l, l') = [l != l'], and the four Gaussian kernels of Sec. 5.2:
+//   appearance  w1 exp(-|p_i - p_j|^2 / 2 theta_beta^2 - |I_i - I_j|^2 / 2 theta_v^2)
+//   smoothness  w2 exp(-|p_i - p_j|^2 / 2 theta_p^2)
+//   height      w3 exp(-|p_i - p_j|^2 / 2 theta_beta^2 - |h_i - h_j|^2 / 2 theta_q^2)
+//   normal      w4 exp(-|p_i - p_j|^2 / 2 theta_beta^2 - |n_i - n_j|^2 / 2 theta_n^2)
+// Each kernel is normalised per pixel, k~_m(i, j) = k_m(f_i, f_j) / Z_m,i with Z_m,i = sum_j k_m(f_i, f_j)
+// (the row normalisation of Kraehenbuehl and Koltun 2013, "Parameter learning and convergent inference for
+// dense random fields"): a message is then a weighted average of Q over the kernel's support, the weights
+// do not depend on the image size, and the lattice's errors in the kernel's mass cancel between numerator
+// and normaliser. The sums include j = i (as the lattice does).
+// Mean-field update (parallel over pixels, K&K 2011 Algorithm 1):
+//   Q_i(l) ∝ exp(-psi_u(l) + sum_m w_m sum_j k~_m(i, j) Q_j(l)).
+// The message passing is a Gaussian filter: permutohedral lattice (O(n), permutohedral.h) by default, or
+// the exact O(n^2) sum for tests and benchmarks. Pixels without depth take height 0 and normal 0 in the
+// height and normal kernels.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "core/status.h"
+#include "objects/permutohedral.h"
+
+namespace semvox {
+
+struct DenseCrfOptions {
+  int iterations = 5;                   // Mean-field iterations. [0, 100].
+  double appearance_weight = 3.0;       // w1 (on the normalised kernel, as all weights). >= 0.
+  double position_scale_px = 40.0;      // theta_beta, pixels (appearance, height and normal kernels). > 0.
+  double colour_scale = 13.0;           // theta_v, RGB units (0..255). > 0.
+  double smoothness_weight = 1.0;       // w2. >= 0.
+  double smoothness_scale_px = 3.0;     // theta_p, pixels. > 0.
+  double height_weight = 2.0;           // w3. >= 0.
+  double height_scale_m = 0.1;          // theta_q, metres. > 0.
+  double normal_weight = 2.0;           // w4. >= 0.
+  double normal_scale = 0.3;            // theta_n, on unit normals. > 0.
+  double probability_floor = 1e-4;      // Unary probabilities are clamped below by this. (0, 0.5).
+
+  bool Check(std::string* error) const;
+};
+
+struct DenseCrfInput {
+  const ImageRgb8* rgb = nullptr;     // 3 channels.
+  const ImageF32* height = nullptr;   // 1 channel: world z of the pixel's hit, metres (0 without depth).
+  const ImageF32* normal = nullptr;   // 3 channels: unit world normal (0 without depth).
+};
+
+class DenseCrf {
+ public:
+  static Result<DenseCrf> Create(const DenseCrfInput& input, const DenseCrfOptions& options);
+
+  // `probabilities`: n x m unary probabilities (row-major, n = width * height). Returns n x m marginals
+  // after options.iterations mean-field updates. `brute_force` sums the kernels exactly (O(n^2)).
+  std::vector<float> MeanField(const std::vector<float>& probabilities, int m, bool brute_force = false) const;
+  // One message-passing step: out_i(l) = sum_m w_m sum_j k~_m(i, j) q_j(l).
+  void Messages(const std::vector<float>& q, int m, bool brute_force, std::vector<float>* out) const;
+  // Exact message for pixel i only (the benchmark extrapolates brute force from a sample of pixels).
+  void BruteForceMessage(int i, const std::vector<float>& q, int m, float* out) const;
+
+  int num_pixels() const { return n_; }
+
+ private:
+  struct Kernel {
+    double weight = 0;
+    int dims = 0;
+    std::vector<float> features;  // n x dims, divided by the standard deviations.
+    PermutohedralLattice lattice;
+  };
+  int n_ = 0;
+  DenseCrfOptions options_;
+  std::vector<Kernel> kernels_;
+};
+
+}  // namespace semvox

@@ -1,0 +1,220 @@
+#include "objects/permutohedral.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+namespace semvox {
+namespace {
+
+// Open-addressing hash table from lattice keys (the first d of the d+1 integer coordinates; the last one
+// is minus their sum) to dense vertex indices.
+class KeyTable {
+ public:
+  KeyTable(int d, size_t expected) : d_(d) {
+    size_t cap = 64;
+    while (cap < 2 * expected) cap *= 2;
+    slots_.assign(cap, -1);
+    keys_.reserve(expected * size_t(d));
+  }
+  // Index of `key`, inserted when absent and `insert`; -1 when absent and not inserting.
+  int32_t Find(const int16_t* key, bool insert) {
+    if (insert && 2 * (size() + 1) > slots_.size()) Grow();
+    const size_t mask = slots_.size() - 1;
+    size_t h = Hash(key) & mask;
+    while (true) {
+      const int32_t s = slots_[h];
+      if (s < 0) {
+        if (!insert) return -1;
+        slots_[h] = int32_t(size());
+        keys_.insert(keys_.end(), key, key + d_);
+        return slots_[h];
+      }
+      if (std::memcmp(&keys_[size_t(s) * size_t(d_)], key, sizeof(int16_t) * size_t(d_)) == 0) return s;
+      h = (h + 1) & mask;
+    }
+  }
+  size_t size() const { return keys_.size() / size_t(d_); }
+  const int16_t* key(size_t i) const { return &keys_[i * size_t(d_)]; }
+
+ private:
+  size_t Hash(const int16_t* key) const {
+    size_t h = 0;
+    for (int i = 0; i < d_; ++i) h = (h + size_t(uint16_t(key[i]))) * 2531011u;
+    return h ^ (h >> 17);
+  }
+  void Grow() {
+    std::vector<int32_t> old;
+    old.swap(slots_);
+    slots_.assign(old.size() * 2, -1);
+    const size_t mask = slots_.size() - 1;
+    for (size_t i = 0; i < size(); ++i) {
+      size_t h = Hash(key(i)) & mask;
+      while (slots_[h] >= 0) h = (h + 1) & mask;
+      slots_[h] = int32_t(i);
+    }
+  }
+  int d_;
+  std::vector<int32_t> slots_;
+  std::vector<int16_t> keys_;
+};
+
+}  // namespace
+
+void PermutohedralLattice::Build(const float* features, int n, int d) {
+  if (d < 1 || d > 16 || n < 0) throw std::invalid_argument("PermutohedralLattice::Build: need n >= 0 and 1 <= d <= 16");
+  n_ = n;
+  d_ = d;
+  const int d1 = d + 1;
+  offset_.assign(size_t(n) * size_t(d1), 0);
+  barycentric_.assign(size_t(n) * size_t(d1), 0.f);
+
+  // Scale of feature i so that the elevated point is sqrt(2/3) (d+1) times an isometric embedding of the
+  // feature vector in the hyperplane sum x = 0 (Adams et al. 2010, Sec. 3.1): the blur and interpolation
+  // then approximate a Gaussian of unit standard deviation in feature space.
+  std::vector<double> scale(static_cast<size_t>(d));
+  const double inv_std = std::sqrt(2.0 / 3.0) * d1;
+  for (int i = 0; i < d; ++i) scale[size_t(i)] = inv_std / std::sqrt(double(i + 1) * double(i + 2));
+
+  // Points are embedded in parallel, then their vertices are inserted sequentially (deterministic order).
+  std::vector<int16_t> keys(size_t(n) * size_t(d1) * size_t(d));
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, 1024), [&](const tbb::blocked_range<int>& range) {
+    std::vector<double> elevated(static_cast<size_t>(d1)), bary(static_cast<size_t>(d1) + 1);
+    std::vector<int> rem0(static_cast<size_t>(d1)), rank(static_cast<size_t>(d1));
+    for (int p = range.begin(); p < range.end(); ++p) {
+      const float* f = features + size_t(p) * size_t(d);
+      // Elevate: E f with E's columns (1, .., 1, -(i+1), 0, ..) / sqrt((i+1)(i+2)).
+      double sm = 0;
+      for (int j = d; j > 0; --j) {
+        const double cf = double(f[j - 1]) * scale[size_t(j - 1)];
+        elevated[size_t(j)] = sm - j * cf;
+        sm += cf;
+      }
+      elevated[0] = sm;
+      // Closest remainder-0 point (all coordinates multiples of d+1), then the rank of every coordinate's
+      // difference: the permutation that identifies the enclosing simplex.
+      int sum = 0;
+      for (int i = 0; i <= d; ++i) {
+        const double v = elevated[size_t(i)] / d1;
+        const int up = int(std::ceil(v)) * d1, down = int(std::floor(v)) * d1;
+        rem0[size_t(i)] = (up - elevated[size_t(i)] < elevated[size_t(i)] - down) ? up : down;
+        sum += rem0[size_t(i)] / d1;
+      }
+      std::fill(rank.begin(), rank.end(), 0);
+      for (int i = 0; i < d; ++i) {
+        const double di = elevated[size_t(i)] - rem0[size_t(i)];
+        for (int j = i + 1; j <= d; ++j) {
+          if (di < elevated[size_t(j)] - rem0[size_t(j)]) ++rank[size_t(i)];
+          else ++rank[size_t(j)];
+        }
+      }
+      // Off the hyperplane (coordinates do not sum to 0): move the largest / smallest ones.
+      if (sum > 0) {
+        for (int i = 0; i <= d; ++i) {
+          if (rank[size_t(i)] >= d1 - sum) { rem0[size_t(i)] -= d1; rank[size_t(i)] += sum - d1; }
+          else rank[size_t(i)] += sum;
+        }
+      } else if (sum < 0) {
+        for (int i = 0; i <= d; ++i) {
+          if (rank[size_t(i)] < -sum) { rem0[size_t(i)] += d1; rank[size_t(i)] += d1 + sum; }
+          else rank[size_t(i)] += sum;
+        }
+      }
+      // Barycentric coordinates of the point in its simplex.
+      std::fill(bary.begin(), bary.end(), 0.0);
+      for (int i = 0; i <= d; ++i) {
+        const double v = (elevated[size_t(i)] - rem0[size_t(i)]) / d1;
+        bary[size_t(d - rank[size_t(i)])] += v;
+        bary[size_t(d + 1 - rank[size_t(i)])] -= v;
+      }
+      bary[0] += 1.0 + bary[size_t(d1)];
+      // Vertex r of the simplex: rem0 + the canonical simplex's vertex r permuted by rank.
+      for (int r = 0; r <= d; ++r) {
+        int16_t* key = &keys[(size_t(p) * size_t(d1) + size_t(r)) * size_t(d)];
+        for (int i = 0; i < d; ++i) {
+          const int canonical = rank[size_t(i)] <= d - r ? r : r - d1;
+          key[i] = int16_t(rem0[size_t(i)] + canonical);
+        }
+        barycentric_[size_t(p) * size_t(d1) + size_t(r)] = float(bary[size_t(r)]);
+      }
+    }
+  });
+
+  KeyTable table(d, size_t(n) * size_t(d1) / 2 + 16);
+  for (size_t k = 0; k < size_t(n) * size_t(d1); ++k) offset_[k] = table.Find(&keys[k * size_t(d)], true);
+  num_vertices_ = int(table.size());
+
+  // Neighbours along each lattice direction j: key + 1 - (d+1) e_j and key - 1 + (d+1) e_j (for j = d the
+  // stored coordinates all move by +-1).
+  const size_t L = size_t(num_vertices_);
+  neighbour_minus_.assign(size_t(d1) * L, -1);
+  neighbour_plus_.assign(size_t(d1) * L, -1);
+  std::vector<int16_t> n1(static_cast<size_t>(d1)), n2(static_cast<size_t>(d1));
+  for (int j = 0; j <= d; ++j) {
+    for (size_t v = 0; v < L; ++v) {
+      const int16_t* key = table.key(v);
+      for (int k = 0; k < d; ++k) {
+        n1[size_t(k)] = int16_t(key[k] + 1);
+        n2[size_t(k)] = int16_t(key[k] - 1);
+      }
+      if (j < d) {
+        n1[size_t(j)] = int16_t(key[j] - d);
+        n2[size_t(j)] = int16_t(key[j] + d);
+      }
+      neighbour_plus_[size_t(j) * L + v] = table.Find(n1.data(), false);
+      neighbour_minus_[size_t(j) * L + v] = table.Find(n2.data(), false);
+    }
+  }
+}
+
+void PermutohedralLattice::Filter(const float* in, int m, std::vector<float>* out) const {
+  const int d1 = d_ + 1;
+  const size_t L = size_t(num_vertices_);
+  std::vector<float> values((L + 1) * size_t(m), 0.f), next((L + 1) * size_t(m), 0.f);
+  // Splat (sequential: points share vertices).
+  for (int p = 0; p < n_; ++p) {
+    const float* v = in + size_t(p) * size_t(m);
+    for (int r = 0; r < d1; ++r) {
+      const size_t k = size_t(p) * size_t(d1) + size_t(r);
+      float* dst = &values[size_t(offset_[k]) * size_t(m)];
+      const float w = barycentric_[k];
+      for (int c = 0; c < m; ++c) dst[c] += w * v[c];
+    }
+  }
+  // Blur with [1 2 1] / 4 along each of the d+1 directions (mass preserving; missing neighbours are 0).
+  for (int j = 0; j < d1; ++j) {
+    const int32_t* minus = &neighbour_minus_[size_t(j) * L];
+    const int32_t* plus = &neighbour_plus_[size_t(j) * L];
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, L, 4096), [&](const tbb::blocked_range<size_t>& range) {
+      for (size_t v = range.begin(); v < range.end(); ++v) {
+        const float* self = &values[v * size_t(m)];
+        const float* a = minus[v] >= 0 ? &values[size_t(minus[v]) * size_t(m)] : nullptr;
+        const float* b = plus[v] >= 0 ? &values[size_t(plus[v]) * size_t(m)] : nullptr;
+        float* dst = &next[v * size_t(m)];
+        for (int c = 0; c < m; ++c) dst[c] = 0.5f * self[c] + 0.25f * ((a ? a[c] : 0.f) + (b ? b[c] : 0.f));
+      }
+    });
+    values.swap(next);
+  }
+  // Slice, scaled so that a uniform density rho of points gives rho (2 pi)^{d/2}, the integral of the unit
+  // Gaussian: one lattice vertex holds the mass of (3/2)^{d/2} / sqrt(d+1) feature-space volume (the lattice
+  // (d+1) A*_d has covolume (d+1)^d / sqrt(d+1), shrunk by the elevation scale sqrt(2/3) (d+1) per axis).
+  const float norm = float(std::pow(4.0 * M_PI / 3.0, 0.5 * d_) * std::sqrt(double(d1)));
+  out->assign(size_t(n_) * size_t(m), 0.f);
+  tbb::parallel_for(tbb::blocked_range<int>(0, n_, 1024), [&](const tbb::blocked_range<int>& range) {
+    for (int p = range.begin(); p < range.end(); ++p) {
+      float* dst = &(*out)[size_t(p) * size_t(m)];
+      for (int r = 0; r < d1; ++r) {
+        const size_t k = size_t(p) * size_t(d1) + size_t(r);
+        const float* src = &values[size_t(offset_[k]) * size_t(m)];
+        const float w = barycentric_[k] * norm;
+        for (int c = 0; c < m; ++c) dst[c] += w * src[c];
+      }
+    }
+  });
+}
+
+}  // namespace semvox

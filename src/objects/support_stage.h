@@ -1,0 +1,69 @@
+// The object-search-priors stage of `semvox run` (issue 8): per view support / clutter / other and generic
+// object proposals, fused over the views; exports support_clutter.ply, support_clutter_topview.png and
+// object_proposals.json.
+//
+//   Result<std::unique_ptr<SupportClutterStage>> stage = SupportClutterStage::Create(SupportStageOptions{}, models_dir);
+//   for (each rendered view, RenderOptions::voxel_size_m = grid resolution)  (*stage)->AddView(view);
+//   (*stage)->Write(outdir, grid);
+//   (*stage)->summary().BriefReport()
+//
+// The classification (superpixels, features, SVM, dense CRF) runs on the view as rendered: 320 x 240
+// matches the training views' resolution (the CRF's pixel scales and the SLIC size are in pixels).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/status.h"
+#include "core/voxel_grid.h"
+#include "objects/proposals.h"
+#include "objects/support_clutter.h"
+#include "objects/support_fusion.h"
+#include "perception/view_classifier.h"
+#include "render/view_renderer.h"
+
+namespace semvox {
+
+struct SupportStageOptions {
+  bool enabled = true;
+  SupportClutterOptions classifier;
+  SupportFusionOptions fusion;            // voxel_size_m: the map's resolution.
+  bool proposals = true;                  // Also generic object proposals (needs nyu4.* and object_proposals.svm).
+  ProposalOptions proposal;
+  double merge_iou = 0.25;                // 3D IoU at which proposals of different views merge. (0, 1].
+
+  bool Check(std::string* error) const;
+};
+
+struct SupportStageSummary {
+  int views = 0;
+  size_t voxels = 0, support_voxels = 0, clutter_voxels = 0, proposals = 0;
+  double ms_classify = 0, ms_proposals = 0;  // Total.
+  std::string BriefReport() const;
+};
+
+class SupportClutterStage {
+ public:
+  // Loads MODELS/support_clutter.svm and, with proposals, MODELS/nyu4.* and MODELS/object_proposals.svm.
+  static Result<std::unique_ptr<SupportClutterStage>> Create(const SupportStageOptions& options, const std::string& models_dir);
+  // Classifies one view, fuses its probabilities and (with proposals) adds its 3D proposals.
+  Status AddView(const RenderedView& view);
+  // OUTDIR/support_clutter.ply, OUTDIR/support_clutter_topview.png (on `grid`), OUTDIR/object_proposals.json.
+  Status Write(const std::string& outdir, const VoxelGrid& grid) const;
+  // Counts of the fused voxels and merged proposals so far, and the time spent.
+  SupportStageSummary summary() const;
+  const SupportClutterFusion& fusion() const { return fusion_; }
+
+ private:
+  SupportClutterStage(SupportStageOptions options, SupportClutterClassifier classifier)
+      : options_(std::move(options)), classifier_(std::move(classifier)), fusion_(options_.fusion), merger_(options_.merge_iou) {}
+  SupportStageOptions options_;
+  SupportClutterClassifier classifier_;
+  std::unique_ptr<ViewClassifier> nyu4_;
+  std::unique_ptr<ObjectProposer> proposer_;
+  SupportClutterFusion fusion_;
+  ProposalMerger merger_;
+  SupportStageSummary summary_;
+};
+
+}  // namespace semvox
