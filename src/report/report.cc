@@ -218,11 +218,18 @@ table.num td,table.num th{text-align:right} table.num td:first-child,table.num t
 img.map{image-rendering:pixelated;max-width:100%;height:auto;border:1px solid #c0c0c0}
 table.rooms{border-collapse:collapse;border-spacing:0}
 table.rooms thead tr{background:#c9b45c}
-table.rooms tbody tr{background:#fff3b0;height:22px}
-table.rooms tbody td{height:22px;padding:0 10px;line-height:22px;border:none;white-space:nowrap}
+table.rooms tbody td{padding:0 10px;border:none;white-space:nowrap}
+table.rooms td:nth-child(2),table.rooms td:nth-child(4),table.rooms th:nth-child(2),table.rooms th:nth-child(4){text-align:left}
 .swatch{display:inline-block;width:12px;height:12px;vertical-align:middle;border:1px solid #404040}
 .muted{color:#707070;font-size:12px}
 )CSS";
+
+// Body rows of the room table: the background and row height tests look for (report.h).
+std::string RoomTableCss() {
+  const std::string h = std::to_string(kRoomTableRowHeightPx) + "px";
+  return "table.rooms tbody tr{background:" + Hex(kRoomTableBackground) + ";height:" + h + "}\n" +
+         "table.rooms tbody td{height:" + h + ";line-height:" + h + "}\n";
+}
 
 }  // namespace
 
@@ -282,7 +289,7 @@ Result<std::string> RenderReportHtml(const std::string& outdir, const ReportOpti
 
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>semvox report: "
-       << Escape(fs::path(outdir).filename().string()) << "</title>\n<style>" << kCss << "</style>\n</head>\n<body>\n";
+       << Escape(fs::path(outdir).filename().string()) << "</title>\n<style>" << kCss << RoomTableCss() << "</style>\n</head>\n<body>\n";
   html << "<h1>semvox report</h1>\n<p class=\"muted\">" << Escape(outdir);
   if (const auto* v = Get(s, "semvox_version")) html << " &middot; semvox " << Escape(Scalar(*v));
   html << "</p>\n";
