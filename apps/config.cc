@@ -96,6 +96,39 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("rooms", floor_plan, clutter_max_length_m, 0, 100, "2D maps: ... and up to this bounding-box diagonal, metres"));
     f.push_back(SEMVOX_INT_FIELD("rooms", floor_plan, free_threshold, 0, 254, "2D maps: grey values above this are free"));
     // ---- end rooms ----
+    // ---- room_types: the room-type CRF (rooms/room_type_crf.h) ----
+    {
+      Field scene;
+      scene.section = "room_types";
+      scene.key = "scene";
+      scene.doc = "scene potential: cnn (Eq. 2, s_y) or conf (Eq. 3, with the training confusion)";
+      scene.choices = {"cnn", "conf"};
+      scene.get_str = [](const PipelineConfig& c) { return std::string(ScenePotentialName(c.room_types.variant.scene)); };
+      scene.set_str = [](PipelineConfig& c, const std::string& v) { ParseScenePotential(v, &c.room_types.variant.scene); };
+      f.push_back(scene);
+      Field hom;
+      hom.section = "room_types";
+      hom.key = "homogeneity";
+      hom.doc = "homogeneity potential (Eq. 6-7): none, stat (learned distance statistics) or gauss (fixed costs x Gaussian)";
+      hom.choices = {"none", "stat", "gauss"};
+      hom.get_str = [](const PipelineConfig& c) { return std::string(HomogeneityPotentialName(c.room_types.variant.homogeneity)); };
+      hom.set_str = [](PipelineConfig& c, const std::string& v) { ParseHomogeneityPotential(v, &c.room_types.variant.homogeneity); };
+      f.push_back(hom);
+    }
+    f.push_back(SEMVOX_INT_FIELD("room_types", room_types.variant, objects, 0, 1, "object-occurrence potential (Eq. 4-5): 1 on, 0 off"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, cell_size_m, 0.05, 5, "CRF node size, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, max_pair_distance_m, 0.1, 50, "homogeneity pairs up to this far apart, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, gauss_sigma_m, 0.01, 50, "phi_gauss kernel width, metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, gauss_same_segment, 0, 100, "phi_gauss: reward for equal types in one segment"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, gauss_other_segment, 0, 100, "phi_gauss: ... in different segments"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, object_sigma_m, 0.01, 50, "reach of an object's evidence, metres"));
+    f.push_back(SEMVOX_INT_FIELD("room_types", room_types, burn_in_sweeps, 0, 100000, "Gibbs sweeps discarded"));
+    f.push_back(SEMVOX_INT_FIELD("room_types", room_types, sample_sweeps, 1, 1000000, "Gibbs sweeps counted into the marginals"));
+    f.push_back(SEMVOX_INT_FIELD("room_types", room_types, seed, 0, 4294967295.0, "seed of the Gibbs sampler"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, min_split_area_m2, 0, 10000, "a room is split only off areas this large, m2"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, min_split_fraction, 0, 1, "... covering this fraction of the room"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, min_split_probability, 0, 1, "... whose mean marginal of their type is at least this"));
+    // ---- end room_types ----
     // render: viewpoints and virtual views (render/views.h).
     f.push_back(SEMVOX_INT_FIELD("render", render, width, 16, 8192, "view width, pixels"));
     f.push_back(SEMVOX_INT_FIELD("render", render, height, 16, 8192, "view height, pixels"));
@@ -192,6 +225,7 @@ Status CheckConfig(const PipelineConfig& config) {
   if (!config.occupancy.Check(&error)) return Status::InvalidInput("configuration: occupancy." + error);
   if (!config.floor_plan.Check(&error)) return Status::InvalidInput("configuration: rooms." + error);
   if (!config.rooms.Check(&error)) return Status::InvalidInput("configuration: rooms." + error);
+  if (!config.room_types.Check(&error)) return Status::InvalidInput("configuration: room_types." + error);
   if (!config.render.Check(&error)) return Status::InvalidInput("configuration: render." + error);
   return Status::Ok();
 }

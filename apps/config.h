@@ -13,6 +13,7 @@
 #include "mapping/voxelizer.h"
 #include "rooms/floor_plan.h"
 #include "rooms/room_segmentation.h"
+#include "rooms/room_type_crf.h"
 #include "render/views.h"
 
 namespace semvox {
@@ -23,6 +24,7 @@ struct PipelineConfig {
   OccupancyOptions occupancy;
   FloorPlanOptions floor_plan;     // Section "rooms": floor plan fields (rooms/floor_plan.h).
   RoomSegmentationOptions rooms;   // Section "rooms": segmentation fields (rooms/room_segmentation.h).
+  RoomTypeCrfOptions room_types;   // Section "room_types": the room-type CRF (rooms/room_type_crf.h).
   ViewsOptions render;  // Section "render": viewpoints and virtual views (render/views.h).
 };
 

@@ -867,6 +867,43 @@ RoomTypeWeights LearnWeightsSsvm(const std::vector<RoomTypeTrainingScene>& scene
   return FromVector(avg);
 }
 
+RoomTypeWeights CalibrateWeightScale(const std::vector<RoomTypeTrainingScene>& scenes, const RoomTypeModel& model,
+                                     const RoomTypeVariant& variant, const RoomTypeWeights& weights,
+                                     const RoomTypeCrfOptions& options, const std::vector<double>& scales,
+                                     double* chosen_scale) {
+  std::vector<RoomTypeGraph> graphs;
+  std::vector<std::vector<int>> truths;
+  for (const RoomTypeTrainingScene& s : scenes) {
+    Result<RoomTypeGraph> g = BuildRoomTypeGraph(s.plan, s.rooms, s.views, s.topview, model, options);
+    if (!g.ok()) continue;
+    truths.push_back(NodeTruth(*g, s.truth));
+    graphs.push_back(std::move(g).value());
+  }
+  // A zero vector has no direction to scale: fall back to the scene term alone.
+  Features f = {weights.scene, weights.objects[0], weights.objects[1], weights.objects[2], weights.objects[3], weights.homogeneity};
+  if (std::all_of(f.begin(), f.end(), [](double v) { return v <= 0; })) f[0] = 1;
+  double best_acc = -1, best_scale = 1;
+  for (double scale : scales) {
+    Features sf = f;
+    for (double& v : sf) v *= scale;
+    const RoomTypeWeights w = FromVector(sf);
+    double ok = 0, all = 0;
+    for (size_t s = 0; s < graphs.size(); ++s) {
+      const RoomTypeEnergy e{&graphs[s], &model, variant, w, options};
+      const std::vector<Dist> m = GibbsMarginals(e, options);
+      for (size_t n = 0; n < m.size(); ++n) {
+        if (truths[s][n] < 0) continue;
+        all += graphs[s].pixels[n];
+        ok += ArgMax(m[n]) == truths[s][n] ? graphs[s].pixels[n] : 0;
+      }
+    }
+    if (all > 0 && ok / all > best_acc + 1e-9) best_acc = ok / all, best_scale = scale;
+  }
+  if (chosen_scale) *chosen_scale = best_scale;
+  for (double& v : f) v *= best_scale;
+  return FromVector(f);
+}
+
 DenseCrfParams LearnDenseCrfParams(const std::vector<RoomTypeTrainingScene>& scenes, const RoomTypeModel& model,
                                    const RoomTypeCrfOptions& options) {
   std::vector<RoomTypeGraph> graphs;

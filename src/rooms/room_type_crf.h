@@ -259,13 +259,21 @@ void LearnHomogeneityStatistics(const std::vector<RoomTypeTrainingScene>& scenes
 
 struct SsvmOptions {
   int epochs = 30;            // Passes over the scenes. >= 1.
-  double learning_rate = 0.5; // Step size at epoch 1 (decays as 1/sqrt(t)).
+  double learning_rate = 2.0; // Step size at epoch 1 (decays as 1/sqrt(t)).
   double regularisation = 1e-3;  // lambda of 0.5 lambda |w|^2.
   uint64_t seed = 7;
 };
 // Structural SVM weights (stochastic subgradient) for `variant`; the graphs are built with `options`.
 RoomTypeWeights LearnWeightsSsvm(const std::vector<RoomTypeTrainingScene>& scenes, const RoomTypeModel& model,
                                  const RoomTypeVariant& variant, const RoomTypeCrfOptions& options, const SsvmOptions& ssvm);
+// Scale of the weights for sampling. The SSVM fixes the direction of w (and, when the scene evidence is weak,
+// drives a lone scene weight towards 0, which would make the sampler draw uniformly); the marginals' argmax
+// depends on the scale (the sampler's temperature). Picks the factor of `scales` whose Gibbs marginals (with
+// the sweeps of `options`) give the best pixel accuracy on the scenes; returns the scaled weights.
+RoomTypeWeights CalibrateWeightScale(const std::vector<RoomTypeTrainingScene>& scenes, const RoomTypeModel& model,
+                                     const RoomTypeVariant& variant, const RoomTypeWeights& weights,
+                                     const RoomTypeCrfOptions& options, const std::vector<double>& scales,
+                                     double* chosen_scale = nullptr);
 // Dense CRF parameters by grid search (the paper, Sec. VI-B) maximising per-pixel accuracy.
 DenseCrfParams LearnDenseCrfParams(const std::vector<RoomTypeTrainingScene>& scenes, const RoomTypeModel& model,
                                    const RoomTypeCrfOptions& options);

@@ -46,6 +46,8 @@ int R2vFixtureLabel(const std::string& name) {
 
 }  // namespace
 
+std::string DefaultR2vDirectory() { return std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/r2v"; }
+
 const std::vector<int>& R2vFixtureLabels() {
   static const std::vector<int> kLabels = {12, 33, 34, 36};
   return kLabels;
@@ -331,9 +333,13 @@ Result<RoomTypeModel> TrainRoomTypeModel(const std::vector<RoomViewRecord>& reco
   LearnConfusion(scenes, &model);
   std::ostringstream rep;
   for (const RoomTypeVariant& v : AllRoomTypeVariants()) {
-    const RoomTypeWeights w = LearnWeightsSsvm(scenes, model, v, options.crf, options.ssvm);
+    const RoomTypeWeights direction = LearnWeightsSsvm(scenes, model, v, options.crf, options.ssvm);
+    RoomTypeCrfOptions calib = options.crf;  // Shorter chains for the scale search.
+    calib.burn_in_sweeps = 10, calib.sample_sweeps = 30;
+    double scale = 1;
+    const RoomTypeWeights w = CalibrateWeightScale(scenes, model, v, direction, calib, {1, 3, 10, 30}, &scale);
     model.SetWeights(v, w);
-    rep << v.Name() << ": w_c " << w.scene << " w_obj " << w.objects[0] << " " << w.objects[1] << " " << w.objects[2] << " "
+    rep << v.Name() << " (SSVM direction x " << scale << "): w_c " << w.scene << " w_obj " << w.objects[0] << " " << w.objects[1] << " " << w.objects[2] << " "
         << w.objects[3] << " w_hom " << w.homogeneity << "\n";
   }
   model.dense = LearnDenseCrfParams(scenes, model, options.crf);

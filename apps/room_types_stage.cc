@@ -1,0 +1,51 @@
+#include "apps/room_types_stage.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "io/image_io.h"
+#include "rooms/room_export.h"
+
+namespace semvox {
+
+Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
+                        const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options, const std::string& outdir,
+                        nlohmann::ordered_json* summary) {
+  const std::string model_path = options.model_path.empty() ? DefaultRoomTypeModelPath() : options.model_path;
+  Result<RoomTypeModel> model = LoadRoomTypeModel(model_path);
+  if (!model.ok()) return model.status();
+  Result<RoomTypeResult> result = InferRoomTypes(plan, rooms, views, topview_labels, *model, options);
+  if (!result.ok()) return result.status();
+  std::vector<RoomDescription> described = DescribeRooms(plan, result->rooms);
+  for (RoomDescription& d : described) {
+    if (d.id < 1 || d.id > int(result->assignments.size())) continue;
+    const RoomTypeAssignment& a = result->assignments[size_t(d.id - 1)];
+    if (a.type_id == 0) continue;  // No evidence at all: stays unknown.
+    d.type_id = a.type_id;
+    d.type_probability = a.probability;
+    d.second_type_id = a.second_type_id;
+    d.second_type_probability = a.second_probability;
+    d.type_probabilities.assign(kRoomTypeLabels + 1, 0.0);
+    for (int y = 0; y < kRoomTypeLabels; ++y) d.type_probabilities[size_t(y + 1)] = std::round(a.probabilities[size_t(y)] * 1e4) / 1e4;
+  }
+  const std::filesystem::path base(outdir);
+  SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(outdir, plan, result->rooms, described));
+  SEMVOX_RETURN_IF_ERROR(WriteImage((base / "rooms_types.png").string(), RenderRoomTypes(plan, result->pixel_types)));
+  if (summary) {
+    nlohmann::ordered_json& j = (*summary)["room_types"];
+    j["method"] = "gibbs_crf";
+    j["variant"] = options.variant.Name();
+    j["model"] = model_path;
+    j["views"] = views.size();
+    j["splits"] = result->splits;
+    j["seconds"] = std::round(result->seconds * 1e3) / 1e3;
+    j["rooms"] = nlohmann::ordered_json::array();
+    for (const RoomDescription& d : described)
+      j["rooms"].push_back({{"id", d.id}, {"type_id", d.type_id}, {"probability", std::round(d.type_probability * 1e4) / 1e4},
+                            {"second_type_id", d.second_type_id},
+                            {"second_probability", std::round(d.second_type_probability * 1e4) / 1e4}});
+  }
+  return Status::Ok();
+}
+
+}  // namespace semvox

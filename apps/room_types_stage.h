@@ -1,0 +1,29 @@
+// The room-type stage of `semvox run` (issue 7, item 4): room types for the segmented rooms from the per-view
+// room-type evidence and the semantic top view, by the room-type CRF (rooms/room_type_crf.h).
+//
+//   RunRoomTypeStage(plan, rooms, views, topview, options, outdir, &summary)
+//     writes OUTDIR/rooms.png (room ids; split-off areas get new ids after the existing ones),
+//     OUTDIR/rooms.geojson (per room: id, type, type_id, type_probabilities, probability, second_type,
+//     second_type_id, second_probability, area_m2, ceiling_height_m), OUTDIR/rooms.svg and
+//     OUTDIR/rooms_types.png (the plan coloured by each pixel's most likely type),
+//     and adds a "room_types" object to `summary` (method, model, rooms with their types, timings).
+// The model is options.model_path, or models/room_type_crf.json ($SEMVOX_MODELS overrides the directory).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "core/status.h"
+#include "rooms/floor_plan.h"
+#include "rooms/room_segmentation.h"
+#include "rooms/room_type_crf.h"
+
+namespace semvox {
+
+Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
+                        const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options, const std::string& outdir,
+                        nlohmann::ordered_json* summary);
+
+}  // namespace semvox
