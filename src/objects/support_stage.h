@@ -29,7 +29,12 @@ struct SupportStageOptions {
   SupportClutterOptions classifier;
   SupportFusionOptions fusion;            // voxel_size_m: the map's resolution.
   bool proposals = true;                  // Also generic object proposals (needs nyu4.* and object_proposals.svm).
-  ProposalOptions proposal;
+  // Proposals scoring below 0.5 (the SVM's probability of "object") stay out of object_proposals.json.
+  ProposalOptions proposal = [] {
+    ProposalOptions o;
+    o.min_score = 0.5;
+    return o;
+  }();
   double merge_iou = 0.25;                // 3D IoU at which proposals of different views merge. (0, 1].
 
   bool Check(std::string* error) const;
