@@ -7,6 +7,7 @@
 
 #include "apps/config.h"
 #include "core/status.h"
+#include "render/views.h"
 
 namespace semvox {
 
@@ -21,6 +22,7 @@ struct RunArgs {
   bool json = false;           // Print summary.json on stdout.
   long long max_voxels = 0;    // > 0 overrides mapping.max_voxels.
   bool save_views = false;     // Also write PNG thumbnails of every view into OUTDIR/views/.
+  std::string models_dir;      // Model files (default: $SEMVOX_MODELS or the source tree's models/).
   // Optional ONNX backend (apps/onnx_stage.h): networks, label maps and input sizes ("WxH", "" = 224x224).
   std::string scene_model, scene_labels, scene_input_size;
   std::string object_model, object_labels, object_input_size;
@@ -88,9 +90,11 @@ struct ViewsStageSummary {
   size_t positions = 0, views = 0, kept = 0;
   size_t surface_voxels = 0, seen_surface_voxels = 0;  // Occupied voxels with a free neighbour; seen by kept views.
   double camera_z = 0, seconds_build = 0, seconds_render = 0;
+  std::vector<Eigen::Vector3d> viewpoints;  // The viewpoints' positions.
 };
-Status RunViewsStage(const Scene& scene, const VoxelMap& map, const ViewsOptions& options, const std::string& outdir,
-                     bool save_views, ViewsStageSummary* summary);
+// `renderer` renders the scene; `extra_sink` (optional) sees every rendered view too.
+Status RunViewsStage(const ViewRenderer& renderer, const VoxelMap& map, const ViewsOptions& options, const std::string& outdir,
+                     bool save_views, ViewsStageSummary* summary, const ViewSink& extra_sink = {});
 
 // ---- batch (apps/batch_command.cc) ----
 struct BatchArgs {
@@ -110,10 +114,18 @@ struct TrainArgs {
   std::string val_seeds = "100-109";        // Generator seeds to score on.
   int max_rows = 20000;                     // Rows kept per k-NN model (even stride), 0 = all.
   int crf_holdout = 5;                      // Last training seeds kept out of the k-NN for CRF weight learning.
+  bool voxel_crf_only = false;              // Train only the Voxel-CRF (needs the per-view models in outdir).
+  std::string voxel_crf_seeds = "0-7";      // Generator seeds the Voxel-CRF weights are learned on.
+  int voxel_crf_epochs = 12;                // Structural-SVM epochs.
 };
 
 // `semvox train`: per-view classifiers (k-NN unaries, tree and union CRFs) from generated apartments.
 Status RunTrain(const TrainArgs& args);
+// `semvox train --voxel-crf`: the Voxel-CRF's weights (structural SVM) and layout prior -> OUTDIR/voxel_crf.txt
+// (apps/voxel_crf_training.cc).
+Status RunTrainVoxelCrf(const TrainArgs& args);
+// "A-B" or "A,B,..." -> seeds.
+Status ParseSeedList(const std::string& text, const char* flag, std::vector<uint64_t>* seeds);
 
 // ---- report and labels (apps/report_command.cc, apps/labels_command.cc) ----
 struct ReportArgs {

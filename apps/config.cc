@@ -145,6 +145,30 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("render", render, min_color_stddev, 0, 255, "drop views with a smaller colour spread (too homogeneous), 0-255"));
     f.push_back(SEMVOX_DOUBLE_FIELD("render", render, min_hit_fraction, 0, 1, "drop views where fewer pixels hit the scene"));
     f.push_back(SEMVOX_INT_FIELD("render", render, thumbnail_width, 16, 8192, "width of --save-views thumbnails, pixels"));
+    // ---- semantic: classification views and the Voxel-CRF (apps/semantic_stage.h, voxelcrf/) ----
+    {
+      Field enabled;
+      enabled.section = "semantic";
+      enabled.key = "enabled";
+      enabled.doc = "run the per-view classifiers and the Voxel-CRF (voxels.ply, map.ot, semantic top view)";
+      enabled.choices = {"true", "false"};
+      enabled.get_str = [](const PipelineConfig& c) { return std::string(c.semantic.enabled ? "true" : "false"); };
+      enabled.set_str = [](PipelineConfig& c, const std::string& v) { c.semantic.enabled = v == "true"; };
+      f.push_back(enabled);
+    }
+    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic, classify_yaw_step_deg, 1, 360, "yaw between classification views of a viewpoint, degrees; divides 360"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.evidence, depth_sigma_voxels, 0.01, 100, "sigma of the depth term f_s, voxel sizes"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.evidence, completion_band_m, 0, 5, "unknown voxels this close to an occupied voxel can be completed, metres"));
+    f.push_back(SEMVOX_INT_FIELD("semantic", semantic.evidence, interior_margin_cells, 0, 100, "columns this close to a free column count as inside, cells"));
+    f.push_back(SEMVOX_INT_FIELD("semantic", semantic.evidence, ray_stride, 1, 64, "one classification ray per ray_stride x ray_stride pixels"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.evidence, ray_extension_m, 0, 10, "a ray's visible voxel may lie this far behind its observed hit, metres"));
+    f.push_back(SEMVOX_INT_FIELD("semantic", semantic.crf, max_iterations, 1, 50, "Voxel-CRF iterations (Alg. 1) at most"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf, plane_truncation, 0.001, 0.5, "Robust P^n truncation Q of plane cliques, fraction of the clique"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf, object_truncation, 0.001, 0.5, "Robust P^n truncation Q of object cliques, fraction of the clique"));
+    f.push_back(SEMVOX_INT_FIELD("semantic", semantic.crf, min_object_voxels, 2, 1000000, "smallest object segment with a clique, voxels"));
+    f.push_back(SEMVOX_INT_FIELD("semantic", semantic.crf.planes, min_voxels, 3, 1000000, "smallest plane piece, voxels"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf.planes, normal_angle_deg, 0.1, 45, "plane detection: normal tolerance, degrees"));
+    // ---- end semantic ----
     return f;
   }();
   return kFields;
@@ -227,6 +251,7 @@ Status CheckConfig(const PipelineConfig& config) {
   if (!config.rooms.Check(&error)) return Status::InvalidInput("configuration: rooms." + error);
   if (!config.room_types.Check(&error)) return Status::InvalidInput("configuration: room_types." + error);
   if (!config.render.Check(&error)) return Status::InvalidInput("configuration: render." + error);
+  if (!config.semantic.Check(&error)) return Status::InvalidInput("configuration: semantic." + error);
   return Status::Ok();
 }
 

@@ -15,6 +15,7 @@
 #include "rooms/room_segmentation.h"
 #include "rooms/room_type_crf.h"
 #include "render/views.h"
+#include "apps/semantic_stage.h"
 
 namespace semvox {
 
@@ -26,6 +27,7 @@ struct PipelineConfig {
   RoomSegmentationOptions rooms;   // Section "rooms": segmentation fields (rooms/room_segmentation.h).
   RoomTypeCrfOptions room_types;   // Section "room_types": the room-type CRF (rooms/room_type_crf.h).
   ViewsOptions render;  // Section "render": viewpoints and virtual views (render/views.h).
+  SemanticStageOptions semantic;  // Section "semantic": classification views and the Voxel-CRF (apps/semantic_stage.h).
 };
 
 // Applies the settings in `path` on top of `config`.

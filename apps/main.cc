@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--object-model", run.object_model, "segmentation network (.onnx) for the per-pixel class probabilities");
   run_cmd->add_option("--object-labels", run.object_labels, "label map of --object-model: NET_INDEX NYU40_CLASS lines");
   run_cmd->add_option("--object-input", run.object_input_size, "input size of --object-model, WxH (default 224x224)");
+  run_cmd->add_option("--models", run.models_dir, "directory of the model files (default: $SEMVOX_MODELS, else the source tree's models/)");
   run_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
 
   semvox::GenerateArgs gen;
@@ -82,6 +83,9 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--val-seeds", train.val_seeds, "generator seeds to score on, e.g. 100-109");
   train_cmd->add_option("--max-rows", train.max_rows, "training rows kept per k-NN model, 0 = all")->check(CLI::NonNegativeNumber);
   train_cmd->add_option("--crf-holdout", train.crf_holdout, "last training seeds used only to learn the CRF weights")->check(CLI::NonNegativeNumber);
+  train_cmd->add_flag("--voxel-crf", train.voxel_crf_only, "train only the Voxel-CRF (per-view models must already be in the output directory)");
+  train_cmd->add_option("--voxel-crf-seeds", train.voxel_crf_seeds, "generator seeds for the Voxel-CRF weights, e.g. 0-7");
+  train_cmd->add_option("--voxel-crf-epochs", train.voxel_crf_epochs, "structural-SVM epochs of the Voxel-CRF")->check(CLI::PositiveNumber);
   train_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
 
   semvox::RenderArgs render;
@@ -151,7 +155,7 @@ int main(int argc, char** argv) {
     if (*eval_cmd) return Report(semvox::RunEval(eval));
     if (*rooms_cmd) return Report(semvox::RunRooms(rooms_args));
     if (*render_cmd) return Report(semvox::RunRender(render));
-    if (*train_cmd) return Report(semvox::RunTrain(train));
+    if (*train_cmd) return Report(train.voxel_crf_only ? semvox::RunTrainVoxelCrf(train) : semvox::RunTrain(train));
     if (*report_cmd) return Report(semvox::RunReport(report));
     if (*labels_cmd) return Report(semvox::RunLabels());
     if (*config_cmd) {

@@ -76,21 +76,18 @@ Status ParsePose(const std::string& text, Eigen::Vector3d* position, double* yaw
 
 }  // namespace
 
-Status RunViewsStage(const Scene& scene, const VoxelMap& map, const ViewsOptions& options, const std::string& outdir,
-                     bool save_views, ViewsStageSummary* summary) {
-  auto t0 = Clock::now();
-  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
-  if (!renderer.ok()) return renderer.status();
-  summary->seconds_build = Seconds(t0);
+Status RunViewsStage(const ViewRenderer& renderer, const VoxelMap& map, const ViewsOptions& options, const std::string& outdir,
+                     bool save_views, ViewsStageSummary* summary, const ViewSink& extra_sink) {
   const std::string views_dir = (fs::path(outdir) / "views").string();
   if (save_views) SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(views_dir));
-  ViewSink sink;
-  if (save_views)
-    sink = [&](const ViewRecord& record, const RenderedView& view) {
-      return WriteImage((fs::path(outdir) / ThumbnailName(record.id)).string(),
-                        DownscaleImage(view.rgb, options.thumbnail_width));
-    };
-  Result<ViewSet> views = RenderViews(renderer.value(), map, options, sink);
+  ViewSink sink = [&](const ViewRecord& record, const RenderedView& view) {
+    if (save_views)
+      SEMVOX_RETURN_IF_ERROR(WriteImage((fs::path(outdir) / ThumbnailName(record.id)).string(),
+                                        DownscaleImage(view.rgb, options.thumbnail_width)));
+    if (extra_sink) return extra_sink(record, view);
+    return Status::Ok();
+  };
+  Result<ViewSet> views = RenderViews(renderer, map, options, sink);
   if (!views.ok()) return views.status();
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(outdir) / "views.json").string(),
                                          ViewsToJson(views.value(), options, save_views)));
@@ -101,6 +98,7 @@ Status RunViewsStage(const Scene& scene, const VoxelMap& map, const ViewsOptions
   summary->surface_voxels = cov.surface_voxels;
   summary->seen_surface_voxels = cov.seen_voxels;
   summary->camera_z = views->view_z;
+  summary->viewpoints = views->positions;
   summary->seconds_render = views->seconds_render;
   SEMVOX_INFO("views: " << summary->positions << " viewpoints at z = " << summary->camera_z << ", " << summary->kept
                         << " of " << summary->views << " views kept; they see " << cov.seen_voxels << " of "

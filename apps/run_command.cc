@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "apps/commands.h"
+#include "apps/semantic_stage.h"
 #include "core/file_util.h"
 #include "core/log.h"
 #include "core/progress.h"
@@ -85,16 +86,43 @@ Status RunPipeline(const RunArgs& args) {
   // ---- render stage (issue 4): viewpoints and virtual views -> views.json [, views/*.png] ----
   t0 = Clock::now();
   progress.Begin("render");
+  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
+  if (!renderer.ok()) return renderer.status();
   ViewsStageSummary views;
-  SEMVOX_RETURN_IF_ERROR(RunViewsStage(scene, map, config.render, args.outdir, args.save_views, &views));
+  views.seconds_build = Seconds(t0);
+  // The semantic stage (issue 6) gathers depth evidence from every kept view as it is rendered.
+  std::unique_ptr<SemanticStage> semantic;
+  if (config.semantic.enabled) {
+    Result<std::unique_ptr<SemanticStage>> st =
+        SemanticStage::Create(map, renderer.value(), config.semantic, args.models_dir.empty() ? DefaultModelsDir() : args.models_dir);
+    if (!st.ok()) return st.status();
+    semantic = std::move(st).value();
+  }
+  SEMVOX_RETURN_IF_ERROR(RunViewsStage(renderer.value(), map, config.render, args.outdir, args.save_views, &views,
+                                       semantic ? semantic->DepthSink() : ViewSink{}));
   timing["render"] = Seconds(t0);
   timing["render_build"] = views.seconds_build;
   timing["render_trace"] = views.seconds_render;
   progress.End();
+  // ---- semantic stage (issue 6): classification views, Voxel-CRF ----
+  if (semantic) {
+    t0 = Clock::now();
+    progress.Begin("classify");
+    SEMVOX_RETURN_IF_ERROR(semantic->ClassifyViews(views.viewpoints));
+    timing["classify"] = Seconds(t0);
+    progress.End();
+    t0 = Clock::now();
+    progress.Begin("voxel-crf");
+    SEMVOX_RETURN_IF_ERROR(semantic->Solve());
+    timing["voxel_crf"] = Seconds(t0);
+    progress.End();
+  }
+  // The occupancy the later stages use: the CRF's refined map when it ran.
+  const VoxelGrid& final_grid = semantic ? semantic->refined_grid() : map.grid;
   // ---- end render stage ----
 
   t0 = Clock::now();
-  const OccupancyMap occ = ComputeOccupancy(map.grid, map.floor_z, config.occupancy);
+  const OccupancyMap occ = ComputeOccupancy(final_grid, map.floor_z, config.occupancy);
   SEMVOX_RETURN_IF_ERROR(WriteOccupancyMap(occ, args.outdir, "occupancy"));
   timing["occupancy"] = Seconds(t0);
   // ---- rooms stage (src/rooms): floor plan with door openings, geometric room segmentation, and
@@ -104,11 +132,17 @@ Status RunPipeline(const RunArgs& args) {
   {
     t0 = Clock::now();
     progress.Begin("rooms");
-    const FloorPlan plan = FloorPlanFromVoxels(map.grid, map.floor_z, map.ceiling_z, occ, config.floor_plan);
+    const FloorPlan plan = FloorPlanFromVoxels(final_grid, map.floor_z, map.ceiling_z, occ, config.floor_plan);
     const RoomSegmentation rooms = SegmentRooms(plan, config.rooms);
     SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(args.outdir, plan, rooms));
     timing["rooms"] = Seconds(t0);
     progress.End();
+    if (semantic) {
+      t0 = Clock::now();
+      SEMVOX_RETURN_IF_ERROR(semantic->Write(args.outdir, &rooms.room_extent_ids, config.occupancy.band_min_above_floor_m,
+                                             config.occupancy.band_max_above_floor_m, occ.image));
+      timing["semantic_exports"] = Seconds(t0);
+    }
     rooms_summary = {{"method", RoomSegmentationMethodName(config.rooms.method)},
                      {"rooms", rooms.num_rooms},
                      {"door_cells", plan.Count(FloorCell::kDoor) - plan.ceiling_step_cells},
@@ -122,7 +156,7 @@ Status RunPipeline(const RunArgs& args) {
   }
   // ---- end rooms stage ----
   t0 = Clock::now();
-  SEMVOX_RETURN_IF_ERROR(WriteOctomapBinary(map.grid, (fs::path(args.outdir) / "map.bt").string()));
+  SEMVOX_RETURN_IF_ERROR(WriteOctomapBinary(final_grid, (fs::path(args.outdir) / "map.bt").string()));
   timing["octomap"] = Seconds(t0);
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(args.outdir) / "config_used.yaml").string(), DumpConfig(config)));
 
@@ -156,6 +190,7 @@ Status RunPipeline(const RunArgs& args) {
   s["views"] = {{"file", "views.json"}, {"positions", views.positions}, {"views", views.views}, {"kept", views.kept},
                 {"camera_z", views.camera_z}, {"surface_voxels", views.surface_voxels},
                 {"surface_voxels_seen", views.seen_surface_voxels}};  // render stage
+  if (semantic) s["semantic"] = semantic->Summary();
   s["warnings"] = TakeWarnings();
   timing["total"] = Seconds(t_all);
   s["seconds"] = timing;

@@ -27,12 +27,12 @@
 #include "perception/room_evidence.h"
 #include "perception/training_data.h"
 #include "perception/view_classifier.h"
+#include "rooms/room_type_training.h"
 
 namespace semvox {
-namespace {
 
 // Parses "A-B" or "A" or "A,B,C".
-Status ParseSeeds(const std::string& text, const char* flag, std::vector<uint64_t>* seeds) {
+Status ParseSeedList(const std::string& text, const char* flag, std::vector<uint64_t>* seeds) {
   seeds->clear();
   size_t pos = 0;
   while (pos <= text.size()) {
@@ -57,6 +57,8 @@ Status ParseSeeds(const std::string& text, const char* flag, std::vector<uint64_
   }
   return seeds->empty() ? Status::InvalidInput(std::string(flag) + " is empty") : Status::Ok();
 }
+
+namespace {
 
 // Keeps at most `max_rows` rows of each model's training set, at an even stride (deterministic).
 void Subsample(int max_rows, TrainingSet* set) {
@@ -90,6 +92,8 @@ nlohmann::json Scores(const ConfusionMatrix& cm, const LabelLevel& level) {
 // A view whose pixels are less than this fraction furniture or props holds too little evidence of its
 // room type: its distribution goes to "other".
 constexpr double kMinObjectFraction = 0.02;
+// Room-type CRF: a view's cone on the floor plan ends this far from the camera, metres.
+constexpr double kRoomTypeViewRangeM = 8.0;
 
 // Second-level classes that say something about the room (not wall, floor, ceiling, window, door).
 std::vector<bool> ObjectClasses(const LabelLevel& level) {
@@ -103,8 +107,8 @@ std::vector<bool> ObjectClasses(const LabelLevel& level) {
 
 Status RunTrain(const TrainArgs& args) {
   std::vector<uint64_t> train_seeds, val_seeds;
-  SEMVOX_RETURN_IF_ERROR(ParseSeeds(args.train_seeds, "--train-seeds", &train_seeds));
-  SEMVOX_RETURN_IF_ERROR(ParseSeeds(args.val_seeds, "--val-seeds", &val_seeds));
+  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.train_seeds, "--train-seeds", &train_seeds));
+  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.val_seeds, "--val-seeds", &val_seeds));
   if (args.crf_holdout < 0 || size_t(args.crf_holdout) >= train_seeds.size())
     return Status::InvalidInput("--crf-holdout = " + std::to_string(args.crf_holdout) +
                                 ". Violated constraint: 0 <= crf-holdout < number of training seeds (" +
@@ -121,11 +125,14 @@ Status RunTrain(const TrainArgs& args) {
   const LabelLevel& room_level = levels[1];
   std::vector<float> room_rows;
   std::vector<int> room_labels;
+  std::vector<uint64_t> room_row_seeds;  // Apartment of each row (room-type CRF: leave-one-apartment-out k-NN).
+  std::vector<RoomViewRecord> room_records;  // Classified views of the CRF seeds (room-type CRF training).
   auto add_room_row = [&](const LabelledView& v) {
     if (v.room_type < 1 || v.room_type > kNumRoomTypeClasses) return;
     const std::vector<float> d = RoomViewDescriptor(*v.view, room_level.Map(*v.nyu40), room_level.num_classes());
     room_rows.insert(room_rows.end(), d.begin(), d.end());
     room_labels.push_back(v.room_type - 1);
+    room_row_seeds.push_back(v.seed);
   };
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<uint64_t> crf_seeds(train_seeds.end() - args.crf_holdout, train_seeds.end());
@@ -190,6 +197,11 @@ Status RunTrain(const TrainArgs& args) {
         SEMVOX_RETURN_IF_ERROR(classifiers[l].CrfTrainingGraphs(*sp, *obs, levels[l].Map(*v.nyu40), &tree_graphs[l].back(),
                                                                 &union_graphs[l].back()));
       }
+      // Room-type CRF: this view's descriptor from its predicted second-level classes (tree CRF).
+      Result<ViewClassification> room_c = classifiers[1].Classify(*sp, *obs);
+      if (!room_c.ok()) return room_c.status();
+      room_records.push_back(MakeRoomViewRecord(v, PixelLabels(room_c->superpixels, room_c->tree_labels),
+                                                room_level.num_classes(), ObjectClasses(room_level), kRoomTypeViewRangeM));
       add_room_row(v);
       return Status::Ok();
     }));
@@ -217,6 +229,22 @@ Status RunTrain(const TrainArgs& args) {
   if (!room_knn.ok()) return Status::InvalidInput("room-type k-NN: " + room_knn.status().message());
   SEMVOX_RETURN_IF_ERROR(room_knn->Save(args.outdir + "/room_type_knn.bin"));
   report["room_type"]["train_views"] = room_labels.size();
+  {  // Room-type CRF (issue 7): statistics from all training seeds (+ R2V fixtures), the rest from the CRF seeds.
+    RoomTypeTrainingOptions rt;
+    rt.min_object_fraction = kMinObjectFraction;
+    rt.r2v_dir = DefaultR2vDirectory();
+    std::vector<uint64_t> stat_seeds = train_seeds;
+    stat_seeds.insert(stat_seeds.end(), crf_seeds.begin(), crf_seeds.end());
+    RoomTypeTrainingSummary rts;
+    Result<RoomTypeModel> rtm = TrainRoomTypeModel(room_records, room_rows, room_labels, room_row_seeds,
+                                                   RoomDescriptorDims(room_level.num_classes()), stat_seeds, rt, &rts);
+    if (!rtm.ok()) return rtm.status();
+    SEMVOX_RETURN_IF_ERROR(SaveRoomTypeModel(*rtm, args.outdir + "/room_type_crf.json"));
+    report["room_type_crf"] = {{"provenance", rtm->provenance}, {"evidence_apartments", rts.evidence_scenes},
+                               {"statistics_apartments", rts.statistics_apartments}, {"r2v_plans", rts.r2v_plans},
+                               {"weights", rts.report}};
+    SEMVOX_INFO("train: room-type CRF\n" << rts.report);
+  }
   const std::vector<bool> object_classes = ObjectClasses(room_level);
   int room_correct = 0, room_views = 0, room_other = 0;
   // Validation: pixel-wise confusion per level and method.

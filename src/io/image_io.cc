@@ -3,6 +3,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <algorithm>
 #include <cstring>
 
 #include "core/file_util.h"
@@ -114,6 +115,32 @@ Status WriteImage(const std::string& path, const ImageRgb8& image) {
 Status WriteImage(const std::string& path, const ImageU16& image) {
   cv::Mat m(image.height, image.width, CV_16UC1, const_cast<uint16_t*>(image.data.data()));
   return Encode(path, m);
+}
+
+ImageRgb8 AppendLegend(const ImageRgb8& image, const std::vector<std::pair<Rgb8, std::string>>& entries) {
+  const int row_h = 18, swatch = 12, pad = 6;
+  int text_w = 0;
+  for (const auto& e : entries) {
+    int base = 0;
+    text_w = std::max(text_w, cv::getTextSize(e.second, cv::FONT_HERSHEY_SIMPLEX, 0.4, 1, &base).width);
+  }
+  const int legend_w = entries.empty() ? 0 : pad * 3 + swatch + text_w;
+  const int h = std::max(image.height, pad * 2 + row_h * int(entries.size()));
+  cv::Mat out(h, image.width + legend_w, CV_8UC3, cv::Scalar(255, 255, 255));
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (int c = 0; c < 3; ++c) out.at<cv::Vec3b>(y, x)[c] = image.channels == 3 ? image.at(x, y, c) : image.at(x, y, 0);
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const int y = pad + int(i) * row_h;
+    const int x = image.width + pad;
+    const Rgb8& c = entries[i].first;
+    cv::rectangle(out, cv::Rect(x, y + 2, swatch, swatch), cv::Scalar(c.r, c.g, c.b), cv::FILLED);
+    cv::rectangle(out, cv::Rect(x, y + 2, swatch, swatch), cv::Scalar(0, 0, 0), 1);
+    cv::putText(out, entries[i].second, cv::Point(x + swatch + pad, y + 12), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  }
+  ImageRgb8 result(out.cols, out.rows, 3);
+  std::memcpy(result.data.data(), out.data, result.data.size());  // The Mat holds R, G, B in that order here.
+  return result;
 }
 
 }  // namespace semvox

@@ -2,7 +2,10 @@
 #pragma once
 
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "core/geometry.h"
 #include "core/image.h"
 #include "core/status.h"
 
@@ -18,5 +21,8 @@ Result<ImageU16> ReadImageU16(const std::string& path);
 // Encodes by extension (.png, .pgm, .jpg) and writes atomically.
 Status WriteImage(const std::string& path, const ImageRgb8& image);  // 3 channels RGB, or 1 channel grey.
 Status WriteImage(const std::string& path, const ImageU16& image);   // 16-bit PNG.
+
+// `image` (RGB) with a legend to its right: one colour swatch and name per entry, on white.
+ImageRgb8 AppendLegend(const ImageRgb8& image, const std::vector<std::pair<Rgb8, std::string>>& entries);
 
 }  // namespace semvox

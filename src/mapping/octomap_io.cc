@@ -1,6 +1,7 @@
 #include "mapping/octomap_io.h"
 
 #include <octomap/OcTree.h>
+#include <octomap/OccupancyOcTreeBase.h>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -80,6 +81,113 @@ Result<std::vector<std::pair<VoxelKey, bool>>> ReadOctomapLeaves(const std::stri
           out.push_back({VoxelKey{uint16_t(base[0] + dx), uint16_t(base[1] + dy), uint16_t(base[2] + dz)}, occ});
   }
   std::sort(out.begin(), out.end());
+  return out;
+}
+
+// ---- Semantic OctoMap (map.ot) ----
+namespace {
+
+// A leaf of the semantic tree: OcTreeNode's occupancy log-odds plus label and confidence.
+class SemanticOcTreeNode : public octomap::OcTreeNode {
+ public:
+  SemanticOcTreeNode() = default;
+  SemanticOcTreeNode(const SemanticOcTreeNode& rhs) : OcTreeNode(rhs), label(rhs.label), confidence(rhs.confidence) {}
+  bool operator==(const SemanticOcTreeNode& rhs) const {
+    return rhs.value == value && rhs.label == label && rhs.confidence == confidence;
+  }
+  void copyData(const SemanticOcTreeNode& from) {
+    OcTreeNode::copyData(from);
+    label = from.label;
+    confidence = from.confidence;
+  }
+  std::istream& readData(std::istream& s) {
+    s.read(reinterpret_cast<char*>(&value), sizeof(value));
+    s.read(reinterpret_cast<char*>(&label), sizeof(label));
+    s.read(reinterpret_cast<char*>(&confidence), sizeof(confidence));
+    return s;
+  }
+  std::ostream& writeData(std::ostream& s) const {
+    s.write(reinterpret_cast<const char*>(&value), sizeof(value));
+    s.write(reinterpret_cast<const char*>(&label), sizeof(label));
+    s.write(reinterpret_cast<const char*>(&confidence), sizeof(confidence));
+    return s;
+  }
+  uint16_t label = 0;
+  float confidence = 0;
+};
+
+class SemanticOcTree : public octomap::OccupancyOcTreeBase<SemanticOcTreeNode> {
+ public:
+  explicit SemanticOcTree(double resolution) : OccupancyOcTreeBase<SemanticOcTreeNode>(resolution) {
+    registration_.ensureLinking();
+  }
+  SemanticOcTree* create() const override { return new SemanticOcTree(resolution); }
+  std::string getTreeType() const override { return "SemanticOcTree"; }
+
+ private:
+  // Registers the tree type with OctoMap's factory, so AbstractOcTree::read can create it.
+  struct Registration {
+    Registration() {
+      auto* tree = new SemanticOcTree(0.1);
+      tree->clearKeyRays();
+      AbstractOcTree::registerTreeType(tree);
+    }
+    void ensureLinking() {}
+  };
+  static Registration registration_;
+};
+SemanticOcTree::Registration SemanticOcTree::registration_;
+
+}  // namespace
+
+Status WriteSemanticOctree(const std::vector<SemanticVoxel>& voxels, double resolution, const std::string& path) {
+  SemanticOcTree tree(resolution);
+  const float hit = tree.getClampingThresMaxLog(), miss = tree.getClampingThresMinLog();
+  for (const SemanticVoxel& v : voxels) {
+    SemanticOcTreeNode* node = tree.setNodeValue(octomap::OcTreeKey(v.key.x, v.key.y, v.key.z), v.occupied ? hit : miss, true);
+    node->label = v.label;
+    node->confidence = v.confidence;
+  }
+  tree.updateInnerOccupancy();
+  tree.prune();
+  std::ostringstream os;
+  bool ok;
+  {
+    ScopedSilenceStderr silence;
+    ok = tree.write(os);
+  }
+  if (!ok) return Status::Internal(FileError(path, "OctoMap serialisation failed", ""));
+  return WriteFileAtomic(path, os.str());
+}
+
+Result<std::vector<SemanticVoxel>> ReadSemanticOctree(const std::string& path, double* resolution) {
+  std::string bytes;
+  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  std::istringstream is(bytes);
+  std::unique_ptr<octomap::AbstractOcTree> any;
+  {
+    ScopedSilenceStderr silence;
+    any.reset(octomap::AbstractOcTree::read(is));
+  }
+  auto* tree = dynamic_cast<SemanticOcTree*>(any.get());
+  if (!tree) return Status::InvalidInput(FileError(path, "not a semantic OctoMap (tree type SemanticOcTree)", "write it with `semvox run`"));
+  *resolution = tree->getResolution();
+  std::vector<SemanticVoxel> out;
+  for (auto it = tree->begin_leafs(), end = tree->end_leafs(); it != end; ++it) {
+    const int span = 1 << (16 - int(it.getDepth()));
+    const octomap::OcTreeKey base = it.getIndexKey();
+    SemanticVoxel v;
+    v.occupied = tree->isNodeOccupied(*it);
+    v.label = it->label;
+    v.confidence = it->confidence;
+    for (int dz = 0; dz < span; ++dz)
+      for (int dy = 0; dy < span; ++dy)
+        for (int dx = 0; dx < span; ++dx) {
+          v.key = VoxelKey{uint16_t(base[0] + dx), uint16_t(base[1] + dy), uint16_t(base[2] + dz)};
+          out.push_back(v);
+        }
+  }
+  std::sort(out.begin(), out.end(), [](const SemanticVoxel& a, const SemanticVoxel& b) { return a.key.Pack() < b.key.Pack(); });
   return out;
 }
 

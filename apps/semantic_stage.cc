@@ -1,0 +1,322 @@
+#include "apps/semantic_stage.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include "core/file_util.h"
+#include "core/labels.h"
+#include "core/log.h"
+#include "io/image_io.h"
+#include "mapping/octomap_io.h"
+#include "perception/room_evidence.h"
+#include "perception/training_data.h"
+#include "perception/view_classifier.h"
+
+namespace semvox {
+namespace fs = std::filesystem;
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
+}  // namespace
+
+bool SemanticStageOptions::Check(std::string* error) const {
+  if (!(classify_yaw_step_deg >= 1 && classify_yaw_step_deg <= 360) ||
+      std::abs(360.0 / classify_yaw_step_deg - std::round(360.0 / classify_yaw_step_deg)) > 1e-9) {
+    if (error) *error = "classify_yaw_step_deg = " + std::to_string(classify_yaw_step_deg) + ". Violated constraint: in [1, 360] and divides 360";
+    return false;
+  }
+  return evidence.Check(error) && crf.Check(error);
+}
+
+std::string DefaultModelsDir() {
+  if (const char* env = std::getenv("SEMVOX_MODELS"); env && *env) return env;
+  return std::string(SEMVOX_SOURCE_DIR) + "/models";
+}
+
+struct SemanticStage::Impl {
+  const VoxelMap* map = nullptr;
+  const ViewRenderer* renderer = nullptr;
+  SemanticStageOptions options;
+  LabelLevel level;
+  std::unique_ptr<ViewClassifier> classifier;
+  std::unique_ptr<KnnClassifier> room_knn;
+  VoxelCrfModel model;
+  bool model_trained = false;
+  VoxelCrfNodes nodes;
+  std::unique_ptr<EvidenceAccumulator> acc;
+  VoxelEvidence evidence;
+  VoxelCrfResult result;
+  SemanticMap semantic;
+  VoxelGrid refined;
+  std::vector<ClassifiedViewRoomEvidence> rooms;
+  int classification_views = 0, skipped_views = 0;
+  double seconds_classify = 0, seconds_depth = 0, seconds_solve = 0;
+};
+
+SemanticStage::SemanticStage(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+SemanticStage::~SemanticStage() = default;
+
+Result<std::unique_ptr<SemanticStage>> SemanticStage::Create(const VoxelMap& map, const ViewRenderer& renderer,
+                                                             const SemanticStageOptions& options, const std::string& models_dir) {
+  std::string error;
+  if (!options.Check(&error)) return Status::InvalidInput("configuration: semantic." + error);
+  auto impl = std::make_unique<Impl>();
+  impl->map = &map;
+  impl->renderer = &renderer;
+  impl->options = options;
+  impl->level = SecondLevel();
+  Result<ViewClassifier> clf = ViewClassifier::Load(models_dir + "/second", ViewClassifierOptions{});
+  if (!clf.ok())
+    return Status::InvalidInput(FileError(models_dir + "/second.*", "cannot load the per-view classifier: " + clf.status().message(),
+                                          "pass --models DIR or run `semvox train`"));
+  impl->classifier = std::make_unique<ViewClassifier>(std::move(clf).value());
+  Result<KnnClassifier> room = KnnClassifier::Load(models_dir + "/room_type_knn.bin");
+  if (!room.ok()) return room.status();
+  impl->room_knn = std::make_unique<KnnClassifier>(std::move(room).value());
+  const std::string model_path = models_dir + "/voxel_crf.txt";
+  std::error_code ec;
+  if (fs::exists(model_path, ec)) {
+    Result<VoxelCrfModel> m = VoxelCrfModel::Load(model_path);
+    if (!m.ok()) return m.status();
+    impl->model = std::move(m).value();
+    impl->model_trained = true;
+  } else {
+    std::vector<int> nyu40;
+    for (const std::string& name : impl->level.class_names) nyu40.push_back(name == "other" ? nyu40::kOtherProp : Nyu40IdByName(name));
+    impl->model = VoxelCrfModel::Default(std::move(nyu40), impl->level.class_names);
+    SEMVOX_WARN(model_path << ": not found; the Voxel-CRF uses untrained default weights (run `semvox train`)");
+  }
+  if (impl->model.num_classes() != impl->level.num_classes())
+    return Status::InvalidInput(FileError(model_path, "class count differs from the per-view classifier's", "re-run `semvox train`"));
+  impl->nodes = SelectVoxelCrfNodes(map.grid, map.floor_z, map.ceiling_z, options.evidence);
+  impl->acc = std::make_unique<EvidenceAccumulator>(map.grid, impl->nodes, impl->level.num_classes(), options.evidence);
+  SEMVOX_INFO("voxel CRF: " << impl->nodes.size() << " nodes (" << impl->nodes.count_state(VoxelState::kOccupied) << " occupied, "
+                            << impl->nodes.count_state(VoxelState::kFree) << " free, " << impl->nodes.count_state(VoxelState::kUnknown)
+                            << " unknown)");
+  return std::unique_ptr<SemanticStage>(new SemanticStage(std::move(impl)));
+}
+
+ViewSink SemanticStage::DepthSink() {
+  return [this](const ViewRecord& record, const RenderedView& view) {
+    if (!record.kept()) return Status::Ok();
+    const auto t0 = Clock::now();
+    impl_->acc->AddDepthView(view);
+    impl_->seconds_depth += Seconds(t0);
+    return Status::Ok();
+  };
+}
+
+Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& positions) {
+  Impl& s = *impl_;
+  const auto t0 = Clock::now();
+  const TrainingViewsOptions tv;
+  const PinholeCamera camera = PinholeCamera::FromHorizontalFov(tv.width, tv.height, tv.horizontal_fov_deg);
+  double z = s.map->floor_z + tv.eye_height_m;
+  if (s.map->ceiling_found) z = std::min(z, s.map->ceiling_z - 0.2);
+  struct Pose {
+    Eigen::Vector3d p;
+    double yaw;
+  };
+  std::vector<Pose> poses;
+  const int per_position = int(std::lround(360.0 / s.options.classify_yaw_step_deg));
+  for (const auto& p : positions)
+    for (int k = 0; k < per_position; ++k) poses.push_back({Eigen::Vector3d(p.x(), p.y(), z), k * s.options.classify_yaw_step_deg});
+  const RenderOptions render{s.map->grid.resolution(), 100.0};
+  const int K = s.level.num_classes();
+  std::vector<bool> object_classes;
+  for (const std::string& name : s.level.class_names)
+    object_classes.push_back(name != "wall" && name != "floor" && name != "ceiling" && name != "window" && name != "door");
+  constexpr size_t kBatch = 4;
+  struct Slot {
+    RenderedView view;
+    bool use = false;
+    Superpixels superpixels;
+    std::vector<float> probabilities;
+    std::array<double, 12> room{};
+    Status status = Status::Ok();
+  };
+  std::vector<Slot> slots(kBatch);
+  for (size_t b0 = 0; b0 < poses.size(); b0 += kBatch) {
+    const size_t nb = std::min(kBatch, poses.size() - b0);
+    tbb::parallel_for(size_t(0), nb, [&](size_t k) {
+      Slot& slot = slots[k];
+      slot.use = false;
+      const Pose& pose = poses[b0 + k];
+      slot.status = s.renderer->Render(camera, WorldFromCameraYawPitch(pose.p, pose.yaw, tv.pitch_deg), render, &slot.view);
+      if (!slot.status.ok()) return;
+      double depth_sum = 0;
+      for (float d : slot.view.depth.data) depth_sum += d;
+      const double hit_fraction = double(slot.view.hit_pixels) / double(slot.view.depth.data.size());
+      if (hit_fraction < tv.min_hit_fraction || (slot.view.hit_pixels && depth_sum / double(slot.view.hit_pixels) < tv.min_mean_depth_m)) return;
+      Result<ViewClassification> c = s.classifier->Classify(slot.view);
+      if (!c.ok()) {
+        slot.status = c.status();
+        return;
+      }
+      slot.superpixels = std::move(c->superpixels);
+      slot.probabilities.assign(c->union_marginals.p.begin(), c->union_marginals.p.end());
+      const Image<int32_t> predicted = PixelLabels(slot.superpixels, c->union_labels);
+      const std::vector<double> p = RoomTypeProbabilities(*s.room_knn, RoomViewDescriptor(slot.view, predicted, K),
+                                                          ObjectPixelFraction(slot.view, predicted, object_classes), 0.02);
+      for (size_t t = 0; t < 12 && t < p.size(); ++t) slot.room[t] = p[t];
+      slot.use = true;
+    });
+    for (size_t k = 0; k < nb; ++k) {
+      Slot& slot = slots[k];
+      SEMVOX_RETURN_IF_ERROR(slot.status);
+      if (!slot.use) {
+        ++s.skipped_views;
+        continue;
+      }
+      s.acc->AddClassifiedView(slot.view, &slot.superpixels.label, slot.probabilities);
+      ClassifiedViewRoomEvidence r;
+      r.position = poses[b0 + k].p;
+      r.yaw_rad = poses[b0 + k].yaw * M_PI / 180.0;
+      r.hfov_rad = tv.horizontal_fov_deg * M_PI / 180.0;
+      r.max_range_m = 8.0;
+      r.p = slot.room;
+      s.rooms.push_back(r);
+      ++s.classification_views;
+    }
+  }
+  s.seconds_classify = Seconds(t0);
+  SEMVOX_INFO("classified " << s.classification_views << " views (" << s.skipped_views << " skipped: too close or too empty) in "
+                            << s.seconds_classify << " s");
+  return Status::Ok();
+}
+
+Status SemanticStage::Solve() { return SolveWith(impl_->options.crf); }
+
+const VoxelCrfResult& SemanticStage::crf_result() const { return impl_->result; }
+
+Status SemanticStage::SolveWith(const VoxelCrfOptions& crf) {
+  Impl& s = *impl_;
+  const auto t0 = Clock::now();
+  FinishEvidence();
+  SEMVOX_RETURN_IF_ERROR(SolveVoxelCrf(s.map->grid, s.nodes, s.evidence, s.map->floor_z, s.map->ceiling_z, s.model, crf, &s.result));
+  s.semantic = MakeSemanticMap(s.map->grid, s.nodes, s.evidence, s.result, s.model);
+  s.refined = s.semantic.RefinedGrid(s.map->grid, s.nodes);
+  s.seconds_solve = Seconds(t0);
+  SEMVOX_INFO("voxel CRF: " << s.semantic.occupied.size() << " occupied voxels labelled (" << s.semantic.completed_count()
+                            << " completed), " << s.result.num_planes << " planes, " << s.result.num_object_cliques
+                            << " object cliques, " << s.result.iterations.size() << " iterations, " << s.seconds_solve << " s");
+  return Status::Ok();
+}
+
+void SemanticStage::FinishEvidence() {
+  if (!impl_->acc) return;
+  impl_->evidence = std::move(*impl_->acc).Finish();
+  impl_->acc.reset();
+}
+
+const VoxelCrfNodes& SemanticStage::nodes() const { return impl_->nodes; }
+const VoxelCrfModel& SemanticStage::model() const { return impl_->model; }
+
+std::vector<int> SemanticStage::GroundTruthNodeLabels(const std::unordered_map<uint64_t, int>& nyu40_of_key) const {
+  const Impl& s = *impl_;
+  std::vector<int> gt(s.nodes.size(), 0);
+  for (size_t i = 0; i < gt.size(); ++i) {
+    const auto c = s.map->grid.Cell(s.nodes.voxel[i]);
+    const auto it = nyu40_of_key.find(s.map->grid.KeyOf(c[0], c[1], c[2]).Pack());
+    if (it == nyu40_of_key.end() || it->second <= 0 || it->second >= kNumNyu40) continue;
+    const int cls = s.level.class_of_nyu40[size_t(it->second)];
+    if (cls >= 0) gt[i] = cls + 1;
+  }
+  return gt;
+}
+
+void SemanticStage::AddLayoutCounts(const std::vector<int>& gt, std::vector<double>* counts) const {
+  const Impl& s = *impl_;
+  const int K = s.level.num_classes();
+  counts->resize(size_t(LayoutPrior::kHeightBins) * LayoutPrior::kNormalBins * size_t(K), 0.0);
+  for (size_t i = 0; i < gt.size(); ++i) {
+    if (gt[i] <= 0) continue;
+    const auto c = s.map->grid.Cell(s.nodes.voxel[i]);
+    const int hb = LayoutPrior::HeightBin(s.map->grid.CellCenter(c[0], c[1], c[2]).z(), s.map->floor_z, s.map->ceiling_z);
+    const int nb = LayoutPrior::NormalBin(s.evidence.normal[i]);
+    (*counts)[(size_t(hb) * LayoutPrior::kNormalBins + size_t(nb)) * size_t(K) + size_t(gt[i] - 1)] += 1.0;
+  }
+}
+
+VoxelCrfTrainingExample SemanticStage::TrainingExample(std::vector<int> gt, const VoxelCrfModel& model) const {
+  const Impl& s = *impl_;
+  VoxelCrfTrainingExample ex;
+  const std::vector<DetectedPlane> planes = DetectPlanes(s.map->grid, s.nodes, s.evidence, s.options.crf.planes);
+  const std::vector<int32_t> vis = ComputeVisibility(s.map->grid, s.nodes, s.evidence, gt);
+  ex.problem = BuildVoxelCrfProblem(s.map->grid, s.nodes, s.evidence, s.map->floor_z, s.map->ceiling_z, model, planes, s.options.crf, vis);
+  ex.gt = std::move(gt);
+  return ex;
+}
+
+const VoxelGrid& SemanticStage::refined_grid() const { return impl_->refined; }
+const SemanticMap& SemanticStage::semantic_map() const { return impl_->semantic; }
+SemanticMap* SemanticStage::mutable_semantic_map() { return &impl_->semantic; }
+const std::vector<ClassifiedViewRoomEvidence>& SemanticStage::room_evidence() const { return impl_->rooms; }
+
+Status SemanticStage::Write(const std::string& outdir, const ImageU16* room_ids, double band_min_m, double band_max_m,
+                            const ImageRgb8& occupancy_image) {
+  Impl& s = *impl_;
+  const VoxelGrid& grid = s.map->grid;
+  if (room_ids) AssignRooms(*room_ids, grid, &s.semantic);
+  SEMVOX_RETURN_IF_ERROR(WriteVoxelsPly(s.semantic, (fs::path(outdir) / "voxels.ply").string()));
+  // map.ot: every known voxel of the refined map; occupied ones with label and confidence.
+  std::vector<SemanticVoxel> voxels;
+  std::vector<int32_t> record(grid.size(), -1);
+  for (size_t k = 0; k < s.semantic.occupied.size(); ++k) record[s.semantic.occupied[k].voxel] = int32_t(k);
+  const auto& d = grid.dims();
+  for (int iz = 0; iz < d[2]; ++iz)
+    for (int iy = 0; iy < d[1]; ++iy)
+      for (int ix = 0; ix < d[0]; ++ix) {
+        const size_t i = grid.Index(ix, iy, iz);
+        const VoxelState st = s.refined.state(i);
+        if (st == VoxelState::kUnknown) continue;
+        SemanticVoxel v;
+        v.key = grid.KeyOf(ix, iy, iz);
+        v.occupied = st == VoxelState::kOccupied;
+        if (record[i] >= 0) v.label = s.semantic.occupied[size_t(record[i])].label, v.confidence = s.semantic.occupied[size_t(record[i])].confidence;
+        voxels.push_back(v);
+      }
+  SEMVOX_RETURN_IF_ERROR(WriteSemanticOctree(voxels, grid.resolution(), (fs::path(outdir) / "map.ot").string()));
+  const ImageU16 top = SemanticTopView(s.semantic, grid, s.map->floor_z, band_min_m, band_max_m);
+  SEMVOX_RETURN_IF_ERROR(WriteImage((fs::path(outdir) / "semantic_topview_labels.png").string(), top));
+  SEMVOX_RETURN_IF_ERROR(WriteImage((fs::path(outdir) / "semantic_topview.png").string(), ColourSemanticTopView(top, occupancy_image)));
+  return Status::Ok();
+}
+
+nlohmann::ordered_json SemanticStage::Summary() const {
+  const Impl& s = *impl_;
+  nlohmann::ordered_json j;
+  j["model"] = s.model_trained ? "models/voxel_crf.txt" : "untrained defaults";
+  j["classification_views"] = s.classification_views;
+  j["skipped_classification_views"] = s.skipped_views;
+  j["nodes"] = {{"total", s.nodes.size()},
+                {"occupied", s.nodes.count_state(VoxelState::kOccupied)},
+                {"free", s.nodes.count_state(VoxelState::kFree)},
+                {"unknown", s.nodes.count_state(VoxelState::kUnknown)}};
+  j["rays"] = s.evidence.rays.size();
+  j["planes"] = s.result.num_planes;
+  j["object_cliques"] = s.result.num_object_cliques;
+  nlohmann::ordered_json its = nlohmann::ordered_json::array();
+  for (const auto& it : s.result.iterations)
+    its.push_back({{"energy_initial", it.energy_initial}, {"energy_final", it.energy_final}, {"energy_per_sweep", it.energy_per_sweep},
+                   {"sweeps", it.sweeps}, {"edges", it.edges}, {"cliques", it.cliques}, {"changed_labels", it.changed_labels},
+                   {"changed_visibility", it.changed_visibility}, {"seconds", it.seconds}});
+  j["iterations"] = its;
+  j["occupied_voxels"] = s.semantic.occupied.size();
+  j["completed_voxels"] = s.semantic.completed_count();
+  nlohmann::ordered_json hist = nlohmann::ordered_json::object();
+  for (const auto& [label, count] : s.semantic.LabelCounts())
+    hist[label > 0 && label < kNumNyu40 ? Nyu40Labels()[size_t(label)].name : std::to_string(label)] = count;
+  j["labels"] = hist;
+  j["seconds"] = {{"depth_evidence", s.seconds_depth}, {"classify", s.seconds_classify}, {"crf", s.result.seconds}, {"solve_total", s.seconds_solve}};
+  j["files"] = {"voxels.ply", "map.ot", "semantic_topview.png", "semantic_topview_labels.png"};
+  return j;
+}
+
+}  // namespace semvox

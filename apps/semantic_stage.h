@@ -1,0 +1,89 @@
+// The semantic stage of `semvox run` (issue 6): per-view classification of virtual views, evidence per
+// voxel, the Voxel-CRF, and the semantic exports (voxels.ply, map.ot, semantic_topview*.png).
+//
+//   SemanticStage stage(scene, map, renderer, config);       // selects the CRF's voxels
+//   RunViewsStage(..., stage.DepthSink(), ...);              // every kept view adds depth evidence
+//   stage.ClassifyViews(positions);                          // classification views + room-type evidence
+//   stage.Solve();                                           // Alg. 1
+//   stage.Write(outdir, room_ids)                            // exports
+#pragma once
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+#include <nlohmann/json.hpp>
+#include "core/status.h"
+#include "mapping/voxelizer.h"
+#include "render/view_renderer.h"
+#include "render/views.h"
+#include "voxelcrf/semantic_map.h"
+#include "voxelcrf/voxel_crf.h"
+#include "voxelcrf/voxel_crf_learning.h"
+#include "voxelcrf/voxel_evidence.h"
+
+namespace semvox {
+
+struct SemanticStageOptions {
+  bool enabled = true;                  // Run the per-view classifiers and the Voxel-CRF.
+  double classify_yaw_step_deg = 30.0;  // Yaw between classification views of one viewpoint, degrees; divides 360.
+  VoxelEvidenceOptions evidence;
+  VoxelCrfOptions crf;
+  bool Check(std::string* error) const;
+};
+
+// Room-type evidence of one classification view (for the room-type CRF).
+struct ClassifiedViewRoomEvidence {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double yaw_rad = 0, hfov_rad = 0, max_range_m = 0;
+  std::array<double, 12> p{};  // room_types.tsv ids 1..12 (index id - 1).
+};
+
+class SemanticStage {
+ public:
+  // Loads the classifier and the CRF model from `models_dir` (second.*, room_type_knn.bin, voxel_crf.txt).
+  static Result<std::unique_ptr<SemanticStage>> Create(const VoxelMap& map, const ViewRenderer& renderer,
+                                                       const SemanticStageOptions& options, const std::string& models_dir);
+  ~SemanticStage();
+  // Adds the depth, density, colour and normal evidence of every kept view.
+  ViewSink DepthSink();
+  // Renders and classifies the classification views from `positions` (x, y; the camera stands at the
+  // classifier's training eye height above the floor, looking down as in training).
+  Status ClassifyViews(const std::vector<Eigen::Vector3d>& positions);
+  Status Solve();
+  // Solves again with other CRF options (variants U, U+PW, U+PW+G; iterations) over the same evidence.
+  Status SolveWith(const VoxelCrfOptions& crf);
+  const VoxelCrfResult& crf_result() const;
+  // The refined occupancy grid (after Solve).
+  const VoxelGrid& refined_grid() const;
+  const SemanticMap& semantic_map() const;
+  SemanticMap* mutable_semantic_map();
+  const std::vector<ClassifiedViewRoomEvidence>& room_evidence() const;
+  // voxels.ply, map.ot, semantic_topview.png, semantic_topview_labels.png (rooms assigned from room_ids).
+  Status Write(const std::string& outdir, const ImageU16* room_ids, double band_min_m, double band_max_m,
+               const ImageRgb8& occupancy_image);
+  nlohmann::ordered_json Summary() const;
+
+  // ---- For `semvox train --voxel-crf` ----
+  // Finishes the evidence (Solve does it too).
+  void FinishEvidence();
+  // Per node the ground-truth label (0 empty, k >= 1 class k - 1) from NYU40 labels per packed voxel key.
+  std::vector<int> GroundTruthNodeLabels(const std::unordered_map<uint64_t, int>& nyu40_of_key) const;
+  // Adds the layout-prior counts (LayoutPrior layout, K classes) of the ground-truth occupied nodes.
+  void AddLayoutCounts(const std::vector<int>& gt, std::vector<double>* counts) const;
+  // The CRF problem under the ground truth's visibility, for structural-SVM learning.
+  VoxelCrfTrainingExample TrainingExample(std::vector<int> gt, const VoxelCrfModel& model) const;
+  const VoxelCrfNodes& nodes() const;
+  const VoxelCrfModel& model() const;
+
+ private:
+  struct Impl;
+  explicit SemanticStage(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// Where the shipped models live: $SEMVOX_MODELS, else <source>/models.
+std::string DefaultModelsDir();
+
+}  // namespace semvox

@@ -1,0 +1,130 @@
+// `semvox train --voxel-crf`: learns the Voxel-CRF's weights by structural SVM (Kim et al. 2013, Sec. 5.2)
+// and its layout prior on generated apartments, and writes OUTDIR/voxel_crf.txt and voxel_crf_report.json.
+//
+// Each training apartment goes through the same stages as `semvox run` (scan artefacts, voxelisation,
+// rendered views with depth evidence, classification views with the shipped per-view classifier), so the
+// weights are learned on the evidence the pipeline really produces. The ground truth of every CRF node is
+// the NYU40 label of the clean mesh's surface in the voxel (second-level class), or empty.
+#include <chrono>
+#include <deque>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "apps/commands.h"
+#include "apps/semantic_stage.h"
+#include "core/file_util.h"
+#include "core/labels.h"
+#include "core/log.h"
+#include "eval/evaluate.h"
+#include "perception/training_data.h"
+#include "scenegen/apartment.h"
+#include "scenegen/scan_artefacts.h"
+
+namespace semvox {
+
+Status RunTrainVoxelCrf(const TrainArgs& args) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<uint64_t> seeds;
+  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.voxel_crf_seeds, "--voxel-crf-seeds", &seeds));
+  const PipelineConfig config;  // The defaults `semvox run` uses.
+  const LabelLevel level = SecondLevel();
+  const int K = level.num_classes();
+  struct Item {
+    Scene scene;
+    VoxelMap map;
+    std::unique_ptr<ViewRenderer> renderer;
+    std::unique_ptr<SemanticStage> stage;
+    std::vector<int> gt;
+  };
+  std::deque<Item> items;
+  std::vector<double> layout_counts;
+  std::map<int, size_t> other_ids;  // NYU40 ids that fall in "other", by voxel count.
+  const int other_class = K - 1;
+  for (uint64_t seed : seeds) {
+    ApartmentOptions ao;
+    ao.seed = seed;
+    ao.max_rooms = 4;
+    Result<Apartment> apt = GenerateApartment(ao);
+    if (!apt.ok()) return apt.status();
+    Item& it = items.emplace_back();
+    ScanArtefactOptions so;
+    so.seed = seed;
+    it.scene.format = "generated";
+    it.scene.mesh = ApplyScanArtefacts(*apt, so);
+    Result<VoxelMap> map = Voxelize(it.scene, config.voxelize);
+    if (!map.ok()) return map.status();
+    it.map = std::move(map).value();
+    Result<ViewRenderer> renderer = ViewRenderer::Create(it.scene);
+    if (!renderer.ok()) return renderer.status();
+    it.renderer = std::make_unique<ViewRenderer>(std::move(renderer).value());
+    Result<std::unique_ptr<SemanticStage>> stage = SemanticStage::Create(it.map, *it.renderer, config.semantic, args.outdir);
+    if (!stage.ok()) return stage.status();
+    it.stage = std::move(stage).value();
+    Result<ViewSet> views = RenderViews(*it.renderer, it.map, config.render, it.stage->DepthSink());
+    if (!views.ok()) return views.status();
+    SEMVOX_RETURN_IF_ERROR(it.stage->ClassifyViews(views->positions));
+    it.stage->FinishEvidence();
+    const VoxelLabels gt_voxels = VoxelizeLabeledMesh(apt->mesh, config.voxelize.voxel_size_m);
+    const std::unordered_map<uint64_t, int> gt_map(gt_voxels.begin(), gt_voxels.end());
+    it.gt = it.stage->GroundTruthNodeLabels(gt_map);
+    it.stage->AddLayoutCounts(it.gt, &layout_counts);
+    for (const auto& [key, id] : gt_voxels)
+      if (id > 0 && id < kNumNyu40 && level.class_of_nyu40[size_t(id)] == other_class) ++other_ids[id];
+    it.renderer.reset();
+    size_t occupied = 0;
+    for (int g : it.gt) occupied += g > 0;
+    SEMVOX_INFO("voxel CRF training: seed " << seed << ": " << it.gt.size() << " nodes, " << occupied << " occupied in the ground truth");
+  }
+  // The model: NYU40 id per class ("other" -> its most frequent id in the training apartments).
+  std::vector<int> nyu40;
+  for (const std::string& name : level.class_names) nyu40.push_back(name == "other" ? nyu40::kOtherProp : Nyu40IdByName(name));
+  size_t best = 0;
+  for (const auto& [id, count] : other_ids)
+    if (count > best) best = count, nyu40[size_t(other_class)] = id;
+  VoxelCrfModel model = VoxelCrfModel::Default(nyu40, level.class_names);
+  model.layout = LayoutPrior::FromCounts(K, layout_counts);
+  std::vector<VoxelCrfTrainingExample> examples;
+  for (Item& it : items) examples.push_back(it.stage->TrainingExample(it.gt, model));
+  // Training error of the initial and the learned weights (plain inference, ground-truth visibility).
+  auto training_error = [&](const std::array<double, kNumVoxelCrfWeights>& w) -> Result<double> {
+    double sum = 0;
+    for (const auto& ex : examples) {
+      std::vector<CrfLabel> labels;
+      CrfSolverSummary s;
+      SEMVOX_RETURN_IF_ERROR(MinimizeWithAlphaExpansion(ex.problem.Energy(w), AlphaExpansionOptions{}, &labels, &s));
+      sum += HammingLoss(std::vector<int>(labels.begin(), labels.end()), ex.gt);
+    }
+    return sum / double(examples.size());
+  };
+  Result<double> before = training_error(model.w);
+  if (!before.ok()) return before.status();
+  VoxelCrfLearningOptions lo;
+  lo.epochs = args.voxel_crf_epochs;
+  VoxelCrfLearningSummary summary;
+  Result<std::array<double, kNumVoxelCrfWeights>> w = LearnVoxelCrfWeights(examples, model.w, lo, &summary);
+  if (!w.ok()) return w.status();
+  model.w = *w;
+  Result<double> after = training_error(model.w);
+  if (!after.ok()) return after.status();
+  SEMVOX_RETURN_IF_ERROR(model.Save((std::filesystem::path(args.outdir) / "voxel_crf.txt").string()));
+  nlohmann::ordered_json report;
+  report["seeds"] = args.voxel_crf_seeds;
+  report["epochs"] = lo.epochs;
+  report["learning_rate"] = lo.learning_rate;
+  report["regularization"] = lo.regularization;
+  report["loss_augmented_hamming_per_epoch"] = summary.loss_per_epoch;
+  report["hinge_per_epoch"] = summary.hinge_per_epoch;
+  report["training_error_default_weights"] = *before;
+  report["training_error_learned_weights"] = *after;
+  report["weights"] = std::vector<double>(model.w.begin(), model.w.end());
+  report["other_class_nyu40"] = nyu40[size_t(other_class)];
+  report["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((std::filesystem::path(args.outdir) / "voxel_crf_report.json").string(), report.dump(2) + "\n"));
+  SEMVOX_INFO("voxel CRF training: per-voxel training error " << *before << " with the default weights, " << *after
+                                                              << " learned; " << args.outdir << "/voxel_crf.txt");
+  return Status::Ok();
+}
+
+}  // namespace semvox

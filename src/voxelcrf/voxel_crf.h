@@ -1,0 +1,173 @@
+// The Voxel-CRF (Kim, Kohli & Savarese, "3D Scene Understanding by Voxel-CRF", ICCV 2013): a labelled,
+// completed voxel map from the evidence of many views.
+//
+//   VoxelCrfNodes nodes = SelectVoxelCrfNodes(...);  VoxelEvidence ev = ...;        (voxel_evidence.h)
+//   Result<VoxelCrfModel> model = VoxelCrfModel::Load("models/voxel_crf.txt");
+//   VoxelCrfResult result;
+//   Status st = SolveVoxelCrf(grid, nodes, ev, floor_z, ceiling_z, *model, VoxelCrfOptions{}, &result);
+//
+// Labels. Each node takes one label l in {0 = empty, 1..K}: the occupancy o_i and semantic label s_i of the
+// paper in one variable (o_i = 0 iff l = 0); class k >= 1 is the per-view classifier's class k - 1.
+//
+// Energy (Eq. 1), with visibility V fixed (Alg. 1 step 2), linear in the weights w:
+//   unary, occupied (Eq. 3):  w1 v_i (-log P(s_i|O)) + w2 (-log F_i) + w3 (-log rho_i)       observed voxels
+//                             + w_unseen [unknown in the map] + w_free [free in the map] + w_bias
+//                             + w_layout (-log P(s_i | height, normal))
+//   unary, empty (Eq. 4):     w4 (-log(1 - F_i)) + w5 (-log(1 - rho_i))                     observed voxels
+//                             + w_surface [occupied in the map]
+// (the map's own states are the scan's evidence for voxels no rendered view observes: surfaces inside
+// thick walls, tops of tall furniture)
+//   pairwise, 3D (Eq. 5-8):   w(s_ij, case, c_ij) [l_i != l_j] over 6-adjacent nodes; s_ij vertical or
+//                             horizontal; case both visible (with colour-difference cluster c_ij of 3),
+//                             one visible, none visible
+//   pairwise, 2D:             w_2d [l_i != l_j] between the visible voxels of neighbouring rays of one view
+//                             that are close in 3D (within 2.5 voxels) but not 6-adjacent; pairs across an
+//                             occlusion boundary (farther apart) get no edge, i.e. no smoothing
+//   higher order (Sec. 4.3):  Robust P^n over each plane's convex-hull nodes and each object segment:
+//                             w_g min(Q, min_{l >= 1} N_l), Q = truncation x clique size (never rewards
+//                             "all empty")
+// F_i, rho_i: voxel_evidence.h. Logs are clipped at -log(1e-3). The layout prior P(s | height, normal) is a
+// histogram learned with the weights: the "room layout" prior the paper lists among higher-level cues
+// (Sec. 4.3); it labels surfaces no classified view sees (ceilings).
+//
+// Inference (Alg. 1): V_0 from the map (the first occupied voxel along each classified-view ray); then per
+// iteration: build the energy for V_t, minimise it by alpha-expansion (crf/solvers.h, own Boykov-Kolmogorov
+// max-flow, Robust P^n with auxiliary nodes), recompute V_{t+1} from the new labels by walking every ray to
+// its first voxel labelled occupied (Eq. 9: exactly one visible voxel per ray), and stop after
+// max_iterations or when V no longer changes.
+//
+// Learning (Sec. 5.2): structural SVM by stochastic subgradient descent (voxel_crf_learning.h).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+#include "core/status.h"
+#include "core/voxel_grid.h"
+#include "crf/energy.h"
+#include "crf/solvers.h"
+#include "voxelcrf/planes.h"
+#include "voxelcrf/voxel_evidence.h"
+
+namespace semvox {
+
+// Index of each weight in VoxelCrfWeights::w.
+enum VoxelCrfWeight : int {
+  kWAppearance = 0,   // w1^u
+  kWDepthOccupied,    // w2^u
+  kWDensityOccupied,  // w3^u
+  kWDepthEmpty,       // w4^u
+  kWDensityEmpty,     // w5^u
+  kWUnseenOccupied,   // occupied, where the map never saw the voxel (unknown): the cost of completion
+  kWOccupiedBias,     // per occupied voxel (may be negative)
+  kWLayout,           // -log P(s | height, normal)
+  kWMapOccupiedEmpty, // empty, where the map holds the voxel occupied (the scan's surface passes through it)
+  kWMapFreeOccupied,  // occupied, where the map holds the voxel free (a scanner ray passed through it)
+  kWPairwise3d,       // 10 weights: [vertical, horizontal] x [vv cluster 0, 1, 2, visible-hidden, hidden-hidden]
+  kWPairwise2d = kWPairwise3d + 10,
+  kWPlane,
+  kWObject,
+  kNumVoxelCrfWeights
+};
+
+// P(s | height bin, normal bin): heights in 0.1 m bins counted from the floor in the lower half of the
+// room and from the ceiling in the upper half (15 bins each way); normals up, down, sideways or none.
+struct LayoutPrior {
+  static constexpr int kHeightBins = 30, kNormalBins = 4;
+  int num_classes = 0;
+  std::vector<float> neg_log_p;  // [(height_bin * kNormalBins + normal_bin) * K + class]; empty = uniform.
+  static int HeightBin(double z, double floor_z, double ceiling_z);
+  static int NormalBin(const Eigen::Vector3f& normal);  // 0 none, 1 up, 2 down, 3 sideways
+  float Cost(int height_bin, int normal_bin, int cls) const {
+    return neg_log_p.empty() ? 0.f : neg_log_p[(size_t(height_bin) * kNormalBins + size_t(normal_bin)) * size_t(num_classes) + size_t(cls)];
+  }
+  // From counts (same layout as neg_log_p), with add-one smoothing.
+  static LayoutPrior FromCounts(int num_classes, const std::vector<double>& counts);
+};
+
+struct VoxelCrfModel {
+  std::array<double, kNumVoxelCrfWeights> w{};
+  LayoutPrior layout;
+  std::vector<int> nyu40_of_class;  // Per classifier class (K): the NYU40 id written for it.
+  std::vector<std::string> class_names;
+  int num_classes() const { return int(nyu40_of_class.size()); }
+  // Hand-set weights for a model that has not been trained (tests; `semvox train` learns them).
+  static VoxelCrfModel Default(std::vector<int> nyu40_of_class, std::vector<std::string> class_names);
+  // Text file: "weights" line, "classes" lines, "layout" counts. Errors name file and line.
+  Status Save(const std::string& path) const;
+  static Result<VoxelCrfModel> Load(const std::string& path);
+};
+
+struct VoxelCrfOptions {
+  int max_iterations = 5;            // Alg. 1 iterations at most. [1, 50].
+  bool use_pairwise = true;          // U+PW (false: U only).
+  bool use_higher_order = true;      // U+PW+G (planes and objects).
+  double plane_truncation = 0.25;    // Q / clique size for planes. (0, 0.5].
+  double object_truncation = 0.25;   // Q / clique size for object segments. (0, 0.5].
+  int min_object_voxels = 20;        // Smallest object segment that gets a clique. >= 2.
+  PlaneDetectionOptions planes;
+  AlphaExpansionOptions solver;
+  bool Check(std::string* error) const;
+};
+
+// The CRF of one visibility state V, in feature form: E(l) = w . Psi(l).
+struct VoxelCrfProblem {
+  int num_nodes = 0, num_labels = 0;  // L = K + 1.
+  // Per node and label, the unary features: label 0 uses [kWDepthEmpty, kWDensityEmpty]; labels >= 1 use
+  // appearance (per label), depth, density, unseen, bias, layout (per label).
+  std::vector<float> f_depth_empty, f_density_empty, f_depth_occ, f_density_occ;
+  std::vector<uint8_t> state;       // Per node: the map's VoxelState.
+  std::vector<float> f_appearance;  // N x K, 0 where not visible.
+  std::vector<float> f_layout;      // N x K.
+  struct Edge {
+    int i, j;
+    int16_t type;  // Weight index (kWPairwise3d + t or kWPairwise2d).
+  };
+  std::vector<Edge> edges;
+  struct Clique {
+    std::vector<int> nodes;
+    float q = 1;
+    int16_t type;  // kWPlane or kWObject.
+  };
+  std::vector<Clique> cliques;
+  // The energy for weights w; with `loss_gt` (per node label), the loss-augmented energy E - Delta.
+  CrfEnergy Energy(const std::array<double, kNumVoxelCrfWeights>& w, const std::vector<int>* loss_gt = nullptr) const;
+  // Psi(l): E(l) = w . Psi(l).
+  std::array<double, kNumVoxelCrfWeights> Features(const std::vector<int>& labels) const;
+};
+
+// Visibility (Eq. 9): per ray, the node of the first voxel along it whose label is occupied (or -1).
+std::vector<int32_t> ComputeVisibility(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev,
+                                       const std::vector<int>& labels);
+
+// Builds the problem for the visibility `visible_node_of_ray`.
+VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev,
+                                     double floor_z, double ceiling_z, const VoxelCrfModel& model,
+                                     const std::vector<DetectedPlane>& planes, const VoxelCrfOptions& options,
+                                     const std::vector<int32_t>& visible_node_of_ray);
+
+struct VoxelCrfIteration {
+  double energy_initial = 0, energy_final = 0;
+  std::vector<double> energy_per_sweep;
+  int sweeps = 0;
+  int64_t changed_labels = 0;   // Against the previous iteration.
+  int64_t visible_nodes = 0;
+  int64_t changed_visibility = 0;  // Rays whose visible node changed after this iteration.
+  size_t edges = 0, cliques = 0;
+  double seconds = 0;
+};
+
+struct VoxelCrfResult {
+  std::vector<int> labels;            // Per node: 0 empty, k >= 1 class k - 1.
+  std::vector<float> confidence;      // Per node: p(l_i | neighbours) under the final energy.
+  std::vector<uint8_t> visible;       // Per node: visible in some classified-view ray (final V).
+  std::vector<int32_t> visibility;    // Per ray: visible node.
+  std::vector<VoxelCrfIteration> iterations;
+  int num_planes = 0, num_object_cliques = 0;
+  double seconds = 0;
+};
+
+Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev, double floor_z,
+                     double ceiling_z, const VoxelCrfModel& model, const VoxelCrfOptions& options, VoxelCrfResult* result);
+
+}  // namespace semvox

@@ -1,0 +1,386 @@
+// Voxel-CRF (issue 6): energy/feature consistency, visibility (Eq. 9) on an analytic scene, plane
+// completion behind a cabinet, learning, and the map.ot / voxels.ply round trips.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/labels.h"
+#include "core/ply.h"
+#include "mapping/octomap_io.h"
+#include "mapping/voxelizer.h"
+#include "perception/training_data.h"
+#include "render/view_renderer.h"
+#include "render/views.h"
+#include "scenegen/mesh_builder.h"
+#include "tests/test_util.h"
+#include "voxelcrf/planes.h"
+#include "voxelcrf/semantic_map.h"
+#include "voxelcrf/voxel_crf.h"
+#include "voxelcrf/voxel_crf_learning.h"
+#include "voxelcrf/voxel_evidence.h"
+
+namespace semvox {
+namespace {
+
+using V = Eigen::Vector3d;
+
+// A random problem in feature form over a small 3D chain of nodes, with edges and cliques of both kinds.
+VoxelCrfProblem RandomProblem(int n, int K, std::mt19937_64* rng) {
+  std::uniform_real_distribution<float> u(0.f, 3.f);
+  VoxelCrfProblem p;
+  p.num_nodes = n;
+  p.num_labels = K + 1;
+  for (int i = 0; i < n; ++i) {
+    p.f_depth_empty.push_back(u(*rng));
+    p.f_density_empty.push_back(u(*rng));
+    p.f_depth_occ.push_back(u(*rng));
+    p.f_density_occ.push_back(u(*rng));
+    p.state.push_back(uint8_t((*rng)() % 3));
+    for (int k = 0; k < K; ++k) p.f_appearance.push_back(u(*rng)), p.f_layout.push_back(u(*rng));
+  }
+  for (int i = 0; i + 1 < n; ++i) p.edges.push_back({i, i + 1, int16_t(kWPairwise3d + int((*rng)() % 10))});
+  for (int i = 0; i + 3 < n; i += 2) p.edges.push_back({i, i + 3, int16_t(kWPairwise2d)});
+  p.cliques.push_back({{0, 1, 2, 3, 4, 5}, 1.5f, int16_t(kWPlane)});
+  p.cliques.push_back({{3, 4, 5, 6}, 2.0f, int16_t(kWObject)});
+  return p;
+}
+
+TEST(VoxelCrfProblem, EnergyIsTheDotProductOfWeightsAndFeatures) {
+  std::mt19937_64 rng(7);
+  for (int trial = 0; trial < 50; ++trial) {
+    const int K = 1 + int(rng() % 4), n = 8 + int(rng() % 6);
+    const VoxelCrfProblem p = RandomProblem(n, K, &rng);
+    std::array<double, kNumVoxelCrfWeights> w{};
+    std::uniform_real_distribution<double> uw(0.0, 2.0);
+    for (double& x : w) x = uw(rng);
+    w[kWOccupiedBias] = uw(rng) - 1.0;
+    std::vector<int> gt(static_cast<size_t>(n));
+    for (int& g : gt) g = int(rng() % uint64_t(K + 1));
+    const CrfEnergy e = p.Energy(w);
+    const CrfEnergy aug = p.Energy(w, &gt);
+    std::string error;
+    ASSERT_TRUE(e.Check(&error)) << error;
+    for (int s = 0; s < 20; ++s) {
+      std::vector<int> l(static_cast<size_t>(n));
+      for (int& x : l) x = int(rng() % uint64_t(K + 1));
+      const auto f = p.Features(l);
+      double dot = 0;
+      for (int i = 0; i < kNumVoxelCrfWeights; ++i) dot += w[size_t(i)] * f[size_t(i)];
+      const std::vector<CrfLabel> cl(l.begin(), l.end());
+      EXPECT_NEAR(e.Evaluate(cl), dot, 1e-3 * (1 + std::abs(dot)));
+      // Loss-augmented: E - Delta (Delta = number of nodes off the ground truth).
+      EXPECT_NEAR(aug.Evaluate(cl), dot - HammingLoss(l, gt) * n, 1e-3 * (1 + std::abs(dot)));
+    }
+  }
+}
+
+TEST(VoxelCrfLearning, StructuredSvmLowersTheTrainingError) {
+  // Examples whose appearance feature is informative while the initial weights ignore it and favour empty.
+  std::mt19937_64 rng(3);
+  std::vector<VoxelCrfTrainingExample> examples;
+  const int K = 3, n = 300;
+  for (int e = 0; e < 3; ++e) {
+    VoxelCrfTrainingExample ex;
+    VoxelCrfProblem& p = ex.problem;
+    p.num_nodes = n;
+    p.num_labels = K + 1;
+    std::uniform_real_distribution<float> noise(0.f, 0.5f);
+    for (int i = 0; i < n; ++i) {
+      const int g = (i / 10) % (K + 1);  // Runs of ten.
+      ex.gt.push_back(g);
+      p.f_depth_empty.push_back(g == 0 ? noise(rng) : 2.f + noise(rng));
+      p.f_density_empty.push_back(0.f);
+      p.f_depth_occ.push_back(g == 0 ? 2.f + noise(rng) : noise(rng));
+      p.f_density_occ.push_back(0.f);
+      p.state.push_back(uint8_t(VoxelState::kOccupied));
+      for (int k = 0; k < K; ++k) p.f_appearance.push_back(k + 1 == g ? noise(rng) : 1.5f + noise(rng)), p.f_layout.push_back(0.f);
+    }
+    for (int i = 0; i + 1 < n; ++i) p.edges.push_back({i, i + 1, int16_t(kWPairwise3d)});
+    examples.push_back(std::move(ex));
+  }
+  std::array<double, kNumVoxelCrfWeights> w0{};
+  w0[kWDepthOccupied] = 0.1;
+  w0[kWDepthEmpty] = 0.1;
+  w0[kWOccupiedBias] = 1.0;  // Everything empty at first.
+  auto error_of = [&](const std::array<double, kNumVoxelCrfWeights>& w) {
+    double sum = 0;
+    for (const auto& ex : examples) {
+      std::vector<CrfLabel> labels;
+      CrfSolverSummary s;
+      EXPECT_TRUE(MinimizeWithAlphaExpansion(ex.problem.Energy(w), AlphaExpansionOptions{}, &labels, &s).ok());
+      sum += HammingLoss(std::vector<int>(labels.begin(), labels.end()), ex.gt);
+    }
+    return sum / double(examples.size());
+  };
+  const double before = error_of(w0);
+  VoxelCrfLearningOptions options;
+  options.epochs = 15;
+  VoxelCrfLearningSummary summary;
+  Result<std::array<double, kNumVoxelCrfWeights>> w = LearnVoxelCrfWeights(examples, w0, options, &summary);
+  ASSERT_TRUE(w.ok()) << w.status().message();
+  const double after = error_of(*w);
+  EXPECT_GT(before, 0.7);
+  EXPECT_LT(after, 0.05);
+  EXPECT_GT((*w)[kWAppearance], 0.0);
+  for (int i = 0; i < kNumVoxelCrfWeights; ++i)
+    if (i != kWOccupiedBias) EXPECT_GE((*w)[size_t(i)], 0.0) << "weight " << i;
+}
+
+// ---- Analytic scenes ----
+
+Scene MeshScene(Mesh mesh) {
+  Scene s;
+  s.format = "test";
+  s.mesh = std::move(mesh);
+  return s;
+}
+
+VoxelMap MapOf(const Scene& scene) {
+  VoxelizeOptions vo;
+  Result<VoxelMap> m = Voxelize(scene, vo);
+  EXPECT_TRUE(m.ok()) << m.status().message();
+  return std::move(m).value();
+}
+
+TEST(VoxelCrfVisibility, FirstOccupiedVoxelAlongEachRayIsExact) {
+  // A room with a free-standing panel at x = 2.0 in front of the east wall at x = 4.0.
+  MeshBuilder b;
+  b.AddBox({-0.1, -0.1, -0.1}, {4.1, 3.1, 0.0}, Rgb8{150, 150, 150}, FaceTags{nyu40::kFloor});
+  b.AddBox({-0.1, -0.1, 2.5}, {4.1, 3.1, 2.6}, Rgb8{200, 200, 200}, FaceTags{nyu40::kCeiling});
+  b.AddBox({-0.1, -0.1, 0.0}, {0.0, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+  b.AddBox({4.0, -0.1, 0.0}, {4.1, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+  b.AddBox({-0.1, -0.1, 0.0}, {4.1, 0.0, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+  b.AddBox({-0.1, 3.0, 0.0}, {4.1, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+  b.AddQuad({2.0, 1.0, 0.5}, {2.0, 2.0, 0.5}, {2.0, 2.0, 2.0}, {2.0, 1.0, 2.0}, Rgb8{20, 200, 20}, FaceTags{nyu40::kPicture});
+  const Scene scene = MeshScene(b.Take());
+  const VoxelMap map = MapOf(scene);
+  const VoxelGrid& g = map.grid;
+  const VoxelCrfNodes nodes = SelectVoxelCrfNodes(g, map.floor_z, map.ceiling_z, VoxelEvidenceOptions{});
+  VoxelEvidence ev;
+  ev.num_classes = 1;
+  ev.origins.push_back(Eigen::Vector3f(0.5f, 1.3f, 1.1f));
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<float> uy(1.15f, 1.85f), uz(0.9f, 1.35f);
+  std::vector<Eigen::Vector3f> targets;
+  for (int k = 0; k < 40; ++k) {
+    const Eigen::Vector3f target(2.0f, uy(rng), uz(rng));
+    EvidenceRay r;
+    r.direction = (target - ev.origins[0]).normalized();
+    r.max_t = 6.0f;
+    ev.rays.push_back(r);
+    targets.push_back(target);
+  }
+  auto expect_node_at = [&](int32_t node, const Eigen::Vector3f& p) {
+    ASSERT_GE(node, 0);
+    const auto c = g.CellOf(p.cast<double>());
+    EXPECT_EQ(nodes.voxel[size_t(node)], g.Index(c[0], c[1], c[2])) << "point " << p.transpose();
+  };
+  std::vector<int> labels(nodes.size(), 0);
+  for (size_t i = 0; i < nodes.size(); ++i) labels[i] = nodes.initial_state[i] == uint8_t(VoxelState::kOccupied);
+  std::vector<int32_t> vis = ComputeVisibility(g, nodes, ev, labels);
+  for (size_t k = 0; k < targets.size(); ++k) expect_node_at(vis[k], targets[k]);  // The panel.
+  // Label the panel empty: each ray now sees the east wall where the ray meets x = 4.0 ...
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const auto c = g.Cell(nodes.voxel[i]);
+    if (std::abs(g.CellCenter(c[0], c[1], c[2]).x() - 2.025) < 1e-6) labels[i] = 0;
+  }
+  vis = ComputeVisibility(g, nodes, ev, labels);
+  for (size_t k = 0; k < targets.size(); ++k) {
+    const Eigen::Vector3f d = ev.rays[k].direction;
+    const float t = (4.0f - ev.origins[0].x()) / d.x();
+    expect_node_at(vis[k], ev.origins[0] + t * d);
+  }
+  // ... and with everything empty no ray sees anything.
+  std::fill(labels.begin(), labels.end(), 0);
+  vis = ComputeVisibility(g, nodes, ev, labels);
+  for (int32_t v : vis) EXPECT_EQ(v, -1);
+}
+
+// A room whose south wall is hidden behind a cabinet standing against it: the scan has no wall there.
+struct CabinetRoom {
+  Mesh mesh;
+  // The wall voxels behind the cabinet (ground truth: wall) and the cabinet's inside (ground truth: empty).
+  static bool BehindCabinet(const V& c) { return c.y() > 0 && c.y() < 0.05 && c.x() > 1.6 && c.x() < 2.4 && c.z() > 0.1 && c.z() < 1.35; }
+  static bool InsideCabinet(const V& c) { return c.y() > 0.12 && c.y() < 0.43 && c.x() > 1.62 && c.x() < 2.38 && c.z() > 0.12 && c.z() < 1.38; }
+};
+
+CabinetRoom MakeCabinetRoom() {
+  MeshBuilder b;
+  const FaceTags wall{nyu40::kWall}, cab{nyu40::kCabinet};
+  const Rgb8 wc{200, 190, 170}, cc{120, 70, 30};
+  b.AddQuad({0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0}, Rgb8{140, 120, 100}, FaceTags{nyu40::kFloor});
+  b.AddQuad({0, 0, 2.5}, {0, 3, 2.5}, {4, 3, 2.5}, {4, 0, 2.5}, Rgb8{240, 240, 240}, FaceTags{nyu40::kCeiling});
+  // South wall (y = 0, facing +y) without the part the cabinet covers.
+  b.AddQuad({0, 0, 0}, {0, 0, 2.5}, {1.5, 0, 2.5}, {1.5, 0, 0}, wc, wall);
+  b.AddQuad({2.5, 0, 0}, {2.5, 0, 2.5}, {4, 0, 2.5}, {4, 0, 0}, wc, wall);
+  b.AddQuad({1.5, 0, 1.5}, {1.5, 0, 2.5}, {2.5, 0, 2.5}, {2.5, 0, 1.5}, wc, wall);
+  b.AddQuad({0, 3, 0}, {4, 3, 0}, {4, 3, 2.5}, {0, 3, 2.5}, wc, wall);
+  b.AddQuad({0, 0, 0}, {0, 3, 0}, {0, 3, 2.5}, {0, 0, 2.5}, wc, wall);
+  b.AddQuad({4, 0, 0}, {4, 0, 2.5}, {4, 3, 2.5}, {4, 3, 0}, wc, wall);
+  // Cabinet x [1.5, 2.5], y [0, 0.5], z [0, 1.5]: front, top and sides (no back, no bottom).
+  b.AddQuad({1.5, 0.5, 0}, {2.5, 0.5, 0}, {2.5, 0.5, 1.5}, {1.5, 0.5, 1.5}, cc, cab);
+  b.AddQuad({1.5, 0, 1.5}, {1.5, 0.5, 1.5}, {2.5, 0.5, 1.5}, {2.5, 0, 1.5}, cc, cab);
+  b.AddQuad({1.5, 0, 0}, {1.5, 0.5, 0}, {1.5, 0.5, 1.5}, {1.5, 0, 1.5}, cc, cab);
+  b.AddQuad({2.5, 0, 0}, {2.5, 0, 1.5}, {2.5, 0.5, 1.5}, {2.5, 0.5, 0}, cc, cab);
+  return CabinetRoom{b.Take()};
+}
+
+TEST(VoxelCrf, PlaneCompletionLabelsTheWallBehindACabinetAsWall) {
+  CabinetRoom room = MakeCabinetRoom();
+  const Scene scene = MeshScene(room.mesh);
+  const VoxelMap map = MapOf(scene);
+  const VoxelGrid& g = map.grid;
+  const LabelLevel level = SecondLevel();
+  const int K = level.num_classes();
+  const VoxelCrfNodes nodes = SelectVoxelCrfNodes(g, map.floor_z, map.ceiling_z, VoxelEvidenceOptions{});
+  EvidenceAccumulator acc(g, nodes, K, VoxelEvidenceOptions{});
+  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
+  ASSERT_TRUE(renderer.ok());
+  ViewsOptions vo;
+  vo.width = 160;
+  vo.height = 120;
+  vo.tilted_ring_deg = 40;  // Floor and ceiling near the viewpoints too.
+  const std::vector<int32_t>& face_label = scene.mesh.face_attributes.at("label");
+  // Classification: the true class of each pixel with probability 0.7 (what a decent per-view classifier gives).
+  Result<ViewSet> views = RenderViews(*renderer, map, vo, [&](const ViewRecord& r, const RenderedView& view) {
+    if (!r.kept()) return Status::Ok();
+    acc.AddDepthView(view);
+    std::vector<float> probs(size_t(view.camera.width) * view.camera.height * K, 0.3f / float(K - 1));
+    for (int y = 0; y < view.camera.height; ++y)
+      for (int x = 0; x < view.camera.width; ++x)
+        if (view.hit(x, y)) {
+          const int cls = level.class_of_nyu40[size_t(face_label[size_t(view.primitive.at(x, y))])];
+          probs[(size_t(y) * view.camera.width + x) * K + size_t(cls)] = 0.7f;
+        }
+    acc.AddClassifiedView(view, nullptr, probs);
+    return Status::Ok();
+  });
+  ASSERT_TRUE(views.ok()) << views.status().message();
+  const VoxelEvidence ev = std::move(acc).Finish();
+  std::vector<int> nyu40;
+  for (const std::string& name : level.class_names) nyu40.push_back(name == "other" ? nyu40::kOtherProp : Nyu40IdByName(name));
+  const VoxelCrfModel model = VoxelCrfModel::Default(nyu40, level.class_names);
+  VoxelCrfResult result;
+  ASSERT_TRUE(SolveVoxelCrf(g, nodes, ev, map.floor_z, map.ceiling_z, model, VoxelCrfOptions{}, &result).ok());
+  // Energy never rises within an expansion sweep (the solver records one value per sweep).
+  for (const auto& it : result.iterations)
+    for (size_t s = 1; s < it.energy_per_sweep.size(); ++s) EXPECT_LE(it.energy_per_sweep[s], it.energy_per_sweep[s - 1] + 1e-6);
+  const int wall = level.class_of_nyu40[nyu40::kWall] + 1;
+  size_t behind = 0, behind_unknown = 0, behind_wall = 0, inside = 0, inside_occupied = 0;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const auto c = g.Cell(nodes.voxel[i]);
+    const V p = g.CellCenter(c[0], c[1], c[2]);
+    if (CabinetRoom::BehindCabinet(p)) {
+      ++behind;
+      behind_unknown += nodes.initial_state[i] == uint8_t(VoxelState::kUnknown);
+      behind_wall += result.labels[i] == wall;
+    }
+    if (CabinetRoom::InsideCabinet(p)) {
+      ++inside;
+      inside_occupied += result.labels[i] != 0;
+    }
+  }
+  ASSERT_GT(behind, 200u);
+  EXPECT_EQ(behind_unknown, behind) << "the scan must not see the wall behind the cabinet";
+  EXPECT_GE(double(behind_wall), 0.9 * double(behind)) << behind_wall << " of " << behind << " hidden wall voxels labelled wall";
+  EXPECT_LE(double(inside_occupied), 0.05 * double(inside)) << inside_occupied << " of " << inside << " cabinet-inside voxels filled";
+  // The exports: completed voxels carry completed = 1 and the wall label.
+  const SemanticMap sm = MakeSemanticMap(g, nodes, ev, result, model);
+  size_t completed_wall = 0;
+  for (const auto& r : sm.occupied) completed_wall += r.completed && r.label == nyu40::kWall && CabinetRoom::BehindCabinet(r.centre.cast<double>());
+  EXPECT_EQ(completed_wall, behind_wall);
+}
+
+TEST(SemanticExports, VoxelsPlyAndSemanticOctreeRoundTrip) {
+  testing::ScratchDir dir("voxelcrf");
+  SemanticMap m;
+  for (int k = 0; k < 5; ++k) {
+    SemanticVoxelRecord r;
+    r.voxel = uint32_t(k);
+    r.centre = Eigen::Vector3f(0.025f + 0.05f * k, 0.025f, 1.025f);
+    r.rgb = {uint8_t(10 * k), 20, 30};
+    r.label = uint16_t(k + 1);
+    r.confidence = 0.5f + 0.1f * k;
+    r.room = k - 1;
+    r.completed = uint8_t(k % 2);
+    m.occupied.push_back(r);
+  }
+  const std::string ply = dir.File("voxels.ply");
+  ASSERT_TRUE(WriteVoxelsPly(m, ply).ok());
+  Result<PlyData> data = ReadPly(ply);
+  ASSERT_TRUE(data.ok());
+  const PlyElement* v = data->Find("vertex");
+  ASSERT_NE(v, nullptr);
+  ASSERT_EQ(v->count, 5u);
+  const std::pair<const char*, PlyType> expected[] = {{"x", PlyType::kFloat32}, {"y", PlyType::kFloat32}, {"z", PlyType::kFloat32},
+                                                      {"red", PlyType::kUInt8}, {"green", PlyType::kUInt8}, {"blue", PlyType::kUInt8},
+                                                      {"label", PlyType::kUInt16}, {"confidence", PlyType::kFloat32},
+                                                      {"room", PlyType::kInt32}, {"completed", PlyType::kUInt8}};
+  ASSERT_EQ(v->properties.size(), std::size(expected));
+  for (size_t i = 0; i < std::size(expected); ++i) {
+    EXPECT_EQ(v->properties[i].name, expected[i].first);
+    EXPECT_EQ(v->properties[i].type, expected[i].second);
+  }
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_EQ(v->Find("label")->values[size_t(k)], k + 1);
+    EXPECT_EQ(v->Find("room")->values[size_t(k)], k - 1);
+    EXPECT_NEAR(v->Find("confidence")->values[size_t(k)], 0.5 + 0.1 * k, 1e-6);
+  }
+  // map.ot: occupied voxels with labels, free voxels with label 0; pruned free blocks come back expanded.
+  std::vector<SemanticVoxel> voxels;
+  for (int x = 0; x < 8; ++x)
+    for (int y = 0; y < 8; ++y)
+      for (int z = 0; z < 8; ++z) voxels.push_back({VoxelKey{uint16_t(32768 + x), uint16_t(32768 + y), uint16_t(32768 + z)}, false, 0, 0.f});
+  voxels.push_back({VoxelKey{32800, 32768, 32768}, true, 7, 0.75f});
+  voxels.push_back({VoxelKey{32801, 32768, 32768}, true, 1, 0.25f});
+  const std::string ot = dir.File("map.ot");
+  ASSERT_TRUE(WriteSemanticOctree(voxels, 0.05, ot).ok());
+  double res = 0;
+  Result<std::vector<SemanticVoxel>> back = ReadSemanticOctree(ot, &res);
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_DOUBLE_EQ(res, 0.05);
+  ASSERT_EQ(back->size(), voxels.size());
+  std::sort(voxels.begin(), voxels.end(), [](const SemanticVoxel& a, const SemanticVoxel& b) { return a.key.Pack() < b.key.Pack(); });
+  for (size_t i = 0; i < voxels.size(); ++i) {
+    EXPECT_EQ((*back)[i].key.Pack(), voxels[i].key.Pack());
+    EXPECT_EQ((*back)[i].occupied, voxels[i].occupied);
+    EXPECT_EQ((*back)[i].label, voxels[i].label);
+    EXPECT_FLOAT_EQ((*back)[i].confidence, voxels[i].confidence);
+  }
+  // A plain OctoMap .bt is not a semantic tree: one clear error.
+  const std::string bt = dir.File("plain.bt");
+  VoxelGrid grid(0.05, {32768, 32768, 32768}, {2, 2, 2});
+  grid.set_state(0, VoxelState::kOccupied);
+  ASSERT_TRUE(WriteOctomapBinary(grid, bt).ok());
+  EXPECT_FALSE(ReadSemanticOctree(bt, &res).ok());
+}
+
+TEST(VoxelCrfModel, SavesAndLoadsAndRejectsBadFiles) {
+  testing::ScratchDir dir("voxelcrf");
+  VoxelCrfModel m = VoxelCrfModel::Default({1, 2, 40}, {"wall", "floor", "other"});
+  std::vector<double> counts(size_t(LayoutPrior::kHeightBins) * LayoutPrior::kNormalBins * 3, 1.0);
+  counts[0] = 50;
+  m.layout = LayoutPrior::FromCounts(3, counts);
+  m.w[kWPlane] = 2.5;
+  const std::string path = dir.File("voxel_crf.txt");
+  ASSERT_TRUE(m.Save(path).ok());
+  Result<VoxelCrfModel> back = VoxelCrfModel::Load(path);
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_EQ(back->nyu40_of_class, m.nyu40_of_class);
+  EXPECT_DOUBLE_EQ(back->w[kWPlane], 2.5);
+  EXPECT_NEAR(back->layout.Cost(0, 0, 0), m.layout.Cost(0, 0, 0), 1e-5);
+  EXPECT_LT(back->layout.Cost(0, 0, 0), back->layout.Cost(0, 0, 1));
+  testing::WriteText(path, "weights 3 1 2 3\n");
+  Result<VoxelCrfModel> bad = VoxelCrfModel::Load(path);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find(path), std::string::npos);
+}
+
+TEST(Planes, ConvexHullOfASquareWithInnerPoints) {
+  std::vector<Eigen::Vector2d> pts = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0.5}, {0.2, 0.7}, {1, 0.5}};
+  const auto h = ConvexHull2D(pts);
+  EXPECT_EQ(h.size(), 4u);
+}
+
+}  // namespace
+}  // namespace semvox
