@@ -1,12 +1,16 @@
 // Render throughput: the full view render (RGB, depth, normal, primitive id, voxel key) against a bare
 // rtcIntersect16 loop over the same Embree scene, camera and poses, in the same run.
 //
-//   render_bench [--faces N ...] [--rounds R] [--threads T] [--views-per-position K] [--size WxH]
+//   render_bench [--faces N ...] [--rounds R] [--threads T] [--views-per-position K] [--size WxH] [--checksum]
 //
 // The mesh is the bundled demo apartment with its longest edges bisected until it has about N faces
 // (the nearer of the two refinement levels around N; default about 10 k and about 1 M). Poses: the automatic viewpoints of the demo apartment (render/views.h)
 // with K yaws each. Bare and full alternate pose by pose (so both see the same load on a shared machine);
 // each round sums both over all poses; the best round of each is reported, plus the median.
+// With --threads 1 the rates per CPU second of the process are printed too: they do not depend on how
+// much of the machine other jobs take, so the full/bare ratio is steadier on a shared machine.
+// --checksum also prints an FNV-1a hash of every buffer of every full render (to check that a change to
+// the renderer leaves its output bit for bit the same).
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -18,6 +22,7 @@
 #include <cstring>
 #include <map>
 #include <string>
+#include <ctime>
 #include <vector>
 
 #include "io/load_scene.h"
@@ -150,6 +155,30 @@ size_t BareRender(const Raycaster& rc, const PinholeCamera& camera, const Eigen:
   return hits.load();
 }
 
+// FNV-1a over the bytes of every buffer of a view, folded into `hash`.
+void HashView(const RenderedView& view, uint64_t* hash) {
+  const auto add = [&](const void* data, size_t bytes) {
+    const auto* b = static_cast<const uint8_t*>(data);
+    for (size_t i = 0; i < bytes; ++i) *hash = (*hash ^ b[i]) * 1099511628211ull;
+  };
+  add(view.rgb.data.data(), view.rgb.data.size());
+  add(view.depth.data.data(), view.depth.data.size() * sizeof(float));
+  for (float n : view.normal.data) {  // Zeros of either sign alike (earlier versions left -0 on some misses).
+    n += 0.0f;
+    add(&n, sizeof(float));
+  }
+  add(view.primitive.data.data(), view.primitive.data.size() * sizeof(int32_t));
+  add(view.voxel_key.data.data(), view.voxel_key.data.size() * sizeof(VoxelKey));
+  add(&view.hit_pixels, sizeof(view.hit_pixels));
+}
+
+// CPU seconds of the whole process (all threads).
+double CpuSeconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
@@ -158,6 +187,7 @@ double Median(std::vector<double> v) {
 int Run(int argc, char** argv) {
   std::vector<size_t> targets;
   int rounds = 5, threads = 2, yaws = 12, width = 640, height = 480;
+  bool checksum = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
@@ -166,8 +196,10 @@ int Run(int argc, char** argv) {
     else if (a == "--threads" && has_value) threads = std::max(1, std::atoi(argv[++i]));
     else if (a == "--views-per-position" && has_value) yaws = std::max(1, std::atoi(argv[++i]));
     else if (a == "--size" && has_value && std::sscanf(argv[++i], "%dx%d", &width, &height) == 2) continue;
+    else if (a == "--checksum") checksum = true;
     else {
-      std::fprintf(stderr, "usage: render_bench [--faces N ...] [--rounds R] [--threads T] [--views-per-position K] [--size WxH]\n");
+      std::fprintf(stderr, "usage: render_bench [--faces N ...] [--rounds R] [--threads T] [--views-per-position K] [--size WxH] "
+                           "[--checksum]\n");
       return 2;
     }
   }
@@ -214,18 +246,23 @@ int Run(int argc, char** argv) {
     }
     const double build_s = std::chrono::duration<double>(Clock::now() - tb).count();
     RenderedView view;
-    std::vector<double> bare_rates, full_rates;
+    std::vector<double> bare_rates, full_rates, bare_cpu_rates, full_cpu_rates;
     size_t bare_hits = 0, full_hits = 0;
     for (int r = 0; r < rounds; ++r) {
       // Bare and full alternate pose by pose, so that both see the same machine load.
-      double bare_s = 0, full_s = 0;
+      double bare_s = 0, full_s = 0, bare_cpu = 0, full_cpu = 0;
       bare_hits = full_hits = 0;
       for (const auto& pose : poses) {
+        const double c0 = CpuSeconds();
         auto t0 = Clock::now();
         bare_hits += BareRender(renderer->raycaster(), camera, pose, float(ro.max_depth_m));
         const auto t1 = Clock::now();
+        const double c1 = CpuSeconds();
         Status st = renderer->Render(camera, pose, ro, &view);
         const auto t2 = Clock::now();
+        const double c2 = CpuSeconds();
+        bare_cpu += c1 - c0;
+        full_cpu += c2 - c1;
         if (!st.ok()) {
           std::fprintf(stderr, "render_bench: %s\n", st.message().c_str());
           return 1;
@@ -236,6 +273,8 @@ int Run(int argc, char** argv) {
       }
       bare_rates.push_back(rays_per_round / bare_s);
       full_rates.push_back(rays_per_round / full_s);
+      bare_cpu_rates.push_back(rays_per_round / bare_cpu);
+      full_cpu_rates.push_back(rays_per_round / full_cpu);
     }
     const double bare_best = *std::max_element(bare_rates.begin(), bare_rates.end());
     const double full_best = *std::max_element(full_rates.begin(), full_rates.end());
@@ -244,6 +283,28 @@ int Run(int argc, char** argv) {
                 scene.mesh.faces.size(), build_s, bare_best / 1e6, Median(bare_rates) / 1e6, full_best / 1e6,
                 Median(full_rates) / 1e6, 100.0 * full_best / bare_best, 100.0 * Median(full_rates) / Median(bare_rates),
                 full_hits, bare_hits, full_hits == bare_hits ? "" : "  (MISMATCH)");
+    if (threads == 1)  // No TBB workers: process CPU time is the render's own, whatever else the machine runs.
+      std::printf("%9zu triangles: per CPU second: bare %6.1f M rays, full %6.1f M rays: full/bare %.0f%% (median of "
+                  "rounds)\n",
+                  scene.mesh.faces.size(), Median(bare_cpu_rates) / 1e6, Median(full_cpu_rates) / 1e6,
+                  100.0 * Median(full_cpu_rates) / Median(bare_cpu_rates));
+    if (checksum) {
+      uint64_t hash = 14695981039346656037ull, pose_hash = hash;
+      for (const auto& pose : poses) {
+        const Eigen::Matrix4d m = pose.matrix();
+        for (int k = 0; k < 16; ++k) {
+          const auto* b = reinterpret_cast<const uint8_t*>(m.data() + k);
+          for (size_t j = 0; j < sizeof(double); ++j) pose_hash = (pose_hash ^ b[j]) * 1099511628211ull;
+        }
+        if (Status st = renderer->Render(camera, pose, ro, &view); !st.ok()) {
+          std::fprintf(stderr, "render_bench: %s\n", st.message().c_str());
+          return 1;
+        }
+        HashView(view, &hash);
+      }
+      std::printf("%9zu triangles: checksum of all buffers of all %zu views %016llx (poses %016llx)\n",
+                  scene.mesh.faces.size(), poses.size(), (unsigned long long)hash, (unsigned long long)pose_hash);
+    }
   }
   return 0;
 }

@@ -66,15 +66,46 @@ struct ShadeContext {
   double ox, oy, oz;                 // Camera centre, world frame (for cloud hits).
 };
 
-// One shaded 4x4 packet as structure of arrays, lane = 4 * row + column.
-struct ShadedPacket {
-  alignas(64) float depth[16];
-  alignas(64) float nx[16], ny[16], nz[16];
-  alignas(64) int32_t primitive[16];
-  alignas(64) int32_t kx[16], ky[16], kz[16];  // Key indices; all 0 for pixels without a (valid) key.
-  alignas(64) uint8_t rgb[48];
-  int hits = 0;
+// One shaded 16x4 tile, laid out as the image rows it is copied into (row-major, 16 pixels a row, colour
+// and normal channels interleaved), so that each row of each buffer leaves with one fixed-size copy.
+struct ShadedTile {
+  alignas(64) float depth[kTileHeight * kTileWidth];
+  alignas(64) int32_t primitive[kTileHeight * kTileWidth];
+  alignas(64) float normal[3 * kTileHeight * kTileWidth];
+  alignas(64) VoxelKey key[kTileHeight * kTileWidth];
+  alignas(64) uint8_t rgb[3 * kTileHeight * kTileWidth];
 };
+
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+// SIMD vectors of kBytes bytes (GCC vector extensions): arithmetic on them is lane-wise and compiles to
+// SIMD instructions of whatever the enclosing function targets, with no reliance on the loop vectoriser.
+// Shading runs with 32-byte vectors where the CPU has AVX2 and 16-byte (SSE2) ones elsewhere; both give
+// the same bits (the same IEEE operations in the same order, no fused multiply-add).
+template <int kBytes>
+struct Simd {
+  typedef float F __attribute__((vector_size(kBytes)));
+  typedef int32_t I __attribute__((vector_size(kBytes)));
+  typedef uint32_t U __attribute__((vector_size(kBytes)));
+  typedef double D __attribute__((vector_size(kBytes)));
+  typedef int64_t L __attribute__((vector_size(kBytes)));
+  typedef float HalfF __attribute__((vector_size(kBytes / 2)));  // As many floats as D has doubles.
+  typedef int32_t HalfI __attribute__((vector_size(kBytes / 2)));
+  static constexpr int kFloats = kBytes / 4, kDoubles = kBytes / 8;
+};
+
+// Always inlined, so that no vector crosses a call (GCC's -Wpsabi note about vector ABIs does not apply;
+// it is silenced for this file, above).
+template <typename V, typename T>
+inline __attribute__((always_inline)) V LoadVec(const T* p) {
+  V v;
+  std::memcpy(&v, p, sizeof(V));
+  return v;
+}
+template <typename V, typename T>
+inline __attribute__((always_inline)) void StoreVec(T* p, const V& v) {
+  std::memcpy(p, &v, sizeof(V));
+}
 
 Rgb8 ScalarColor(const ShadeContext& c, int32_t prim, float u, float v) {
   switch (c.color_source) {
@@ -85,49 +116,46 @@ Rgb8 ScalarColor(const ShadeContext& c, int32_t prim, float u, float v) {
   }
 }
 
-}  // namespace
-
-// The per-pixel function, evaluated for the 16 lanes of a packet at once: gathers first, then plain
-// loops over arrays that the compiler vectorises (an AVX2 clone is picked at run time where the CPU has
-// it). Every output of a pixel follows from its own hit alone:
-//   hit point   on the face from the barycentrics (exact for axis-aligned faces, as Raycaster::HitPoint),
-//               or origin + t * direction for cloud discs;
+// The per-pixel function, evaluated for the 16 lanes of a packet at once with kBytes-wide vectors; the
+// packet's 4x4 pixels go to columns [col, col + 4) of `out`. Every output of a pixel follows from its own
+// hit alone:
+//   hit point   origin + t * direction (in double), except that on a face perpendicular to an axis that
+//               coordinate is the face's own, so that points on walls, floors and ceilings lie on them
+//               exactly (as the voxeliser sees them);
 //   voxel key   floor(point / resolution) + 2^15 per axis, as OctoMap's coordToKey (multiplying by 1/res),
 //               after moving the point up by kBoundaryToleranceVoxels as the voxeliser does;
 //   normal      Embree's geometric normal, unit length, flipped to face the camera;
 //   colour      Mesh::ColorAt (vertex colours interpolated inline), cloud colour or grey;
 //   misses      black, depth 0, normal 0, primitive -1, key {0,0,0}.
-__attribute__((target_clones("avx2", "default")))
-void ShadePacket(const ShadeContext& c, const RTCRayHit16& __restrict p, const int* __restrict valid,
-                 ShadedPacket* __restrict out) {
-  constexpr int n = 16;
-  alignas(64) int32_t hit[n];  // 1 or 0.
-  alignas(64) int32_t prim[n];
-  int hits = 0;
-  for (int l = 0; l < n; ++l) {
-    hit[l] = valid[l] != 0 && p.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID;
-    prim[l] = hit[l] ? int32_t(p.hit.primID[l]) : 0;
-    hits += hit[l];
+// Returns the number of lanes that hit.
+template <int kBytes>
+inline __attribute__((always_inline)) int ShadePacketImpl(const ShadeContext& c, const RTCRayHit16& __restrict p,
+                                                          const int* __restrict valid, int col,
+                                                          ShadedTile* __restrict out) {
+  using S = Simd<kBytes>;
+  using F = typename S::F;
+  using I = typename S::I;
+  using U = typename S::U;
+  using D = typename S::D;
+  using L = typename S::L;
+  constexpr int n = 16, nf = S::kFloats, nd = S::kDoubles;
+  alignas(64) int32_t hit[n], prim[n];  // hit: -1 or 0; prim: 0 on a miss, so that gathers stay in range.
+  for (int q = 0; q < n; q += nf) {
+    const I h = (LoadVec<I>(valid + q) != 0) & (LoadVec<U>(p.hit.geomID + q) != RTC_INVALID_GEOMETRY_ID);
+    StoreVec(hit + q, h);
+    StoreVec(prim + q, h & LoadVec<I>(p.hit.primID + q));
   }
-  out->hits = hits;
-  // Hit points: origin + t * direction, then on a face perpendicular to an axis that coordinate is the
-  // face's own, so points on walls, floors and ceilings lie on them exactly (as the voxeliser sees them).
-  alignas(64) double px[n], py[n], pz[n];
-  for (int l = 0; l < n; ++l) {
-    const double t = p.ray.tfar[l];
-    px[l] = c.ox + t * p.ray.dir_x[l];
-    py[l] = c.oy + t * p.ray.dir_y[l];
-    pz[l] = c.oz + t * p.ray.dir_z[l];
-  }
+  // Gather one 16-byte record per pixel; colours of uniform faces directly.
   alignas(64) float plane[n];
   alignas(64) int32_t axis[n];
   alignas(64) uint8_t rgb[3 * n];
   if (!c.is_cloud) {
-    for (int l = 0; l < n; ++l) {  // Gather one 16-byte record per pixel; colours of uniform faces directly.
+    const bool interpolate = c.interpolate_corners;
+    for (int l = 0; l < n; ++l) {
       const FaceShade& f = c.face_shade[prim[l]];
       plane[l] = f.plane;
       axis[l] = f.axis;
-      if (f.uniform || !c.interpolate_corners) {
+      if (f.uniform || !interpolate) {
         rgb[3 * l] = f.rgb[0], rgb[3 * l + 1] = f.rgb[1], rgb[3 * l + 2] = f.rgb[2];
       } else {  // = lround() of Mesh::ColorAt's interpolation for values >= 0.
         const float u = p.hit.u[l], v = p.hit.v[l], w = 1.0f - u - v;
@@ -135,60 +163,116 @@ void ShadePacket(const ShadeContext& c, const RTCRayHit16& __restrict p, const i
           rgb[3 * l + k] = uint8_t(std::min(std::max(w * f.rgb[k] + u * f.rgb[3 + k] + v * f.rgb[6 + k] + 0.5f, 0.0f), 255.0f));
       }
     }
+  } else {
+    for (int l = 0; l < n; ++l) plane[l] = 0, axis[l] = 3;
+  }
+  if (!(c.color_source == ColorSource::kVertex || c.color_source == ColorSource::kMaterial ||
+        c.color_source == ColorSource::kGrey)) {
     for (int l = 0; l < n; ++l) {
-      px[l] = axis[l] == 0 ? double(plane[l]) : px[l];
-      py[l] = axis[l] == 1 ? double(plane[l]) : py[l];
-      pz[l] = axis[l] == 2 ? double(plane[l]) : pz[l];
+      // Not for misses: their u and v are whatever the lane held before, and a texture lookup needs sane ones.
+      const Rgb8 rc = hit[l] ? ScalarColor(c, prim[l], p.hit.u[l], p.hit.v[l]) : Rgb8{0, 0, 0};
+      rgb[3 * l] = rc.r, rgb[3 * l + 1] = rc.g, rgb[3 * l + 2] = rc.b;
     }
   }
-  // Keys. Scaled coordinates are clamped to +-2^30 first, so that the conversion is defined; anything
-  // that far out is outside OctoMap's key range anyway.
-  constexpr double kClamp = 1073741824.0;
+
+  // Hit points in double, then keys. Scaled coordinates are clamped to +-2^30 first, so that the
+  // conversion is defined; anything that far out is outside OctoMap's key range anyway.
+  constexpr double kClamp = 1073741824.0;                  // 2^30.
+  constexpr double kRoundMagic = 6755399441055744.0;       // 1.5 * 2^52.
   const double inv = c.inv_voxel_size;
   const double tolerance = kBoundaryToleranceVoxels / inv;
-  const auto key_index = [&](double coord) {
-    double s = inv * (coord + tolerance);
-    s = s < -kClamp ? -kClamp : s;  // Value selects (not std::clamp's references) so the loop vectorises.
-    s = s > kClamp ? kClamp : s;
-    const int32_t i = int32_t(s);  // Truncation; floor below.
-    return i - int32_t(s < double(i)) + int32_t(kKeyOffset);
-  };
-  for (int l = 0; l < n; ++l) out->kx[l] = key_index(px[l]);
-  for (int l = 0; l < n; ++l) out->ky[l] = key_index(py[l]);
-  for (int l = 0; l < n; ++l) out->kz[l] = key_index(pz[l]);
-  for (int l = 0; l < n; ++l) {
-    const bool ok = hit[l] && uint32_t(out->kx[l]) < 65536u && uint32_t(out->ky[l]) < 65536u &&
-                    uint32_t(out->kz[l]) < 65536u;
-    out->kx[l] = ok ? out->kx[l] : 0;
-    out->ky[l] = ok ? out->ky[l] : 0;
-    out->kz[l] = ok ? out->kz[l] : 0;
-  }
-  for (int l = 0; l < n; ++l) {  // Branch-free: which side a face is seen from is as good as random.
-    const float nx = p.hit.Ng_x[l], ny = p.hit.Ng_y[l], nz = p.hit.Ng_z[l];
-    const float n2 = nx * nx + ny * ny + nz * nz;
-    const float facing = nx * p.ray.dir_x[l] + ny * p.ray.dir_y[l] + nz * p.ray.dir_z[l];
-    const float inv_len = 1.0f / std::sqrt(n2 > 1e-30f ? n2 : 1e-30f);
-    const float sign = facing > 0 ? -1.0f : 1.0f;         // Faces the camera.
-    const float scale = sign * inv_len * float(hit[l]);   // 0 on a miss.
-    out->nx[l] = nx * scale;
-    out->ny[l] = ny * scale;
-    out->nz[l] = nz * scale;
-    out->depth[l] = p.ray.tfar[l] * float(hit[l]);
-  }
-  for (int l = 0; l < n; ++l) out->primitive[l] = hit[l] ? prim[l] : -1;
-  if (c.color_source == ColorSource::kVertex || c.color_source == ColorSource::kMaterial ||
-      c.color_source == ColorSource::kGrey) {
-    for (int l = 0; l < n; ++l)
-      for (int k = 0; k < 3; ++k) out->rgb[3 * l + k] = hit[l] ? rgb[3 * l + k] : 0;
-  } else {
-    for (int l = 0; l < n; ++l) {
-      const Rgb8 col = hit[l] ? ScalarColor(c, prim[l], p.hit.u[l], p.hit.v[l]) : Rgb8{0, 0, 0};
-      out->rgb[3 * l] = col.r, out->rgb[3 * l + 1] = col.g, out->rgb[3 * l + 2] = col.b;
+  alignas(64) int32_t key[3][n];
+  const double origin[3] = {c.ox, c.oy, c.oz};
+  const float* dir[3] = {p.ray.dir_x, p.ray.dir_y, p.ray.dir_z};
+  for (int q = 0; q < n; q += nd) {
+    const D t = __builtin_convertvector(LoadVec<typename S::HalfF>(p.ray.tfar + q), D);
+    const L ax = __builtin_convertvector(LoadVec<typename S::HalfI>(axis + q), L);
+    const D pl = __builtin_convertvector(LoadVec<typename S::HalfF>(plane + q), D);
+    for (int a = 0; a < 3; ++a) {
+      D coord = origin[a] + t * __builtin_convertvector(LoadVec<typename S::HalfF>(dir[a] + q), D);
+      coord = ax == a ? pl : coord;
+      D s = inv * (coord + tolerance);
+      s = s < -kClamp ? -kClamp : s;
+      s = s > kClamp ? kClamp : s;
+      // floor(s), exactly, in double lanes: adding and taking away 1.5 * 2^52 rounds s to the nearest
+      // integer (every double in [2^52, 2^53) is an integer, and |s| <= 2^30); one down where that
+      // rounded up. Then the conversion to int32 is exact.
+      const D nearest = (s + kRoundMagic) - kRoundMagic;
+      const D fl = nearest > s ? nearest - 1.0 : nearest;
+      StoreVec(key[a] + q, __builtin_convertvector(fl, typename S::HalfI) + kKeyOffset);
     }
   }
+  alignas(64) float depth[n], nrm[3][n];
+  alignas(64) int32_t primitive[n];
+  for (int q = 0; q < n; q += nf) {
+    const I h = LoadVec<I>(hit + q);
+    const I kx = LoadVec<I>(key[0] + q), ky = LoadVec<I>(key[1] + q), kz = LoadVec<I>(key[2] + q);
+    const I ok = h & (U(kx) < 65536u) & (U(ky) < 65536u) & (U(kz) < 65536u);
+    StoreVec(key[0] + q, kx & ok);
+    StoreVec(key[1] + q, ky & ok);
+    StoreVec(key[2] + q, kz & ok);
+    // Normals. Branch-free: which side a face is seen from is as good as random. Misses are selected
+    // to +0 rather than multiplied by 0: Embree leaves Ng of a missed lane as it was (stale or
+    // uninitialised), and 0 times that could be -0 or NaN.
+    const F nx = LoadVec<F>(p.hit.Ng_x + q), ny = LoadVec<F>(p.hit.Ng_y + q), nz = LoadVec<F>(p.hit.Ng_z + q);
+    const F dx = LoadVec<F>(p.ray.dir_x + q), dy = LoadVec<F>(p.ray.dir_y + q), dz = LoadVec<F>(p.ray.dir_z + q);
+    const F n2 = nx * nx + ny * ny + nz * nz;
+    const F facing = nx * dx + ny * dy + nz * dz;
+    F len = n2 > 1e-30f ? n2 : 1e-30f;
+    for (int l = 0; l < nf; ++l) len[l] = std::sqrt(len[l]);  // sqrtps (no errno in this file).
+    const F sign = facing > 0 ? F{} - 1.0f : F{} + 1.0f;  // Faces the camera.
+    const F scale = sign * (1.0f / len);
+    StoreVec(nrm[0] + q, h ? nx * scale : F{});
+    StoreVec(nrm[1] + q, h ? ny * scale : F{});
+    StoreVec(nrm[2] + q, h ? nz * scale : F{});
+    StoreVec(depth + q, h ? LoadVec<F>(p.ray.tfar + q) : F{});
+    StoreVec(primitive + q, h ? LoadVec<I>(prim + q) : I{} - 1);
+  }
+
+  // Misses are black.
+  for (int l = 0; l < n; ++l) {
+    const uint8_t m = uint8_t(hit[l]);  // 0xFF or 0.
+    rgb[3 * l] &= m, rgb[3 * l + 1] &= m, rgb[3 * l + 2] &= m;
+  }
+
+  // The packet's rows (4 pixels each) into the tile's rows: interleaved channels by shuffles.
+  typedef float F4 __attribute__((vector_size(16)));
+  typedef uint16_t K4 __attribute__((vector_size(8)));
+  typedef int32_t I4 __attribute__((vector_size(16)));
+  for (int row = 0; row < kPacketSide; ++row) {
+    const int l = row * kPacketSide, i = row * kTileWidth + col;
+    std::memcpy(&out->depth[i], &depth[l], kPacketSide * sizeof(float));
+    std::memcpy(&out->primitive[i], &primitive[l], kPacketSide * sizeof(int32_t));
+    std::memcpy(&out->rgb[3 * i], &rgb[3 * l], 3 * kPacketSide);
+    // (x0..x3), (y0..y3), (z0..z3) -> x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3.
+    const F4 x = LoadVec<F4>(nrm[0] + l), y = LoadVec<F4>(nrm[1] + l), z = LoadVec<F4>(nrm[2] + l);
+    const F4 xy01 = __builtin_shufflevector(x, y, 0, 4, 1, 5), xy23 = __builtin_shufflevector(x, y, 2, 6, 3, 7);
+    const F4 yz1 = __builtin_shufflevector(xy01, z, 3, 5, 3, 5);
+    StoreVec(&out->normal[3 * i], __builtin_shufflevector(xy01, z, 0, 1, 4, 2));
+    StoreVec(&out->normal[3 * i + 4], __builtin_shufflevector(yz1, xy23, 0, 1, 4, 5));
+    StoreVec(&out->normal[3 * i + 8], __builtin_shufflevector(xy23, z, 6, 2, 3, 7));
+    // Keys: the low 16 bits of each index (all in range or 0 by now), interleaved the same way.
+    const K4 kx = __builtin_convertvector(LoadVec<I4>(key[0] + l), K4);
+    const K4 ky = __builtin_convertvector(LoadVec<I4>(key[1] + l), K4);
+    const K4 kz = __builtin_convertvector(LoadVec<I4>(key[2] + l), K4);
+    const auto kxy = __builtin_shufflevector(kx, ky, 0, 1, 2, 3, 4, 5, 6, 7);
+    const auto kzz = __builtin_shufflevector(kz, kz, 0, 1, 2, 3, 0, 1, 2, 3);
+    uint16_t* kd = reinterpret_cast<uint16_t*>(&out->key[i]);
+    StoreVec(kd, __builtin_shufflevector(kxy, kzz, 0, 4, 8, 1, 5, 9, 2, 6));
+    StoreVec(kd + 8, __builtin_shufflevector(kxy, kzz, 10, 3, 7, 11));
+  }
+  int hits = 0;
+  for (int l = 0; l < n; ++l) hits -= hit[l];
+  return hits;
 }
 
-namespace {
+__attribute__((target("avx2"))) int ShadePacketAvx2(const ShadeContext& c, const RTCRayHit16& p, const int* valid,
+                                                    int col, ShadedTile* out) {
+  return ShadePacketImpl<32>(c, p, valid, col, out);
+}
+int ShadePacketSse2(const ShadeContext& c, const RTCRayHit16& p, const int* valid, int col, ShadedTile* out) {
+  return ShadePacketImpl<16>(c, p, valid, col, out);
+}
 
 template <typename T>
 void Resize(Image<T>* image, int w, int h, int c) {
@@ -278,6 +362,7 @@ Status ViewRenderer::Render(const PinholeCamera& camera, const Eigen::Isometry3d
   const float tfar = float(options.max_depth_m);
   const int tiles_x = (w + kTileWidth - 1) / kTileWidth, tiles_y = (h + kTileHeight - 1) / kTileHeight;
   std::atomic<size_t> hit_pixels{0};
+  static const bool use_avx2 = __builtin_cpu_supports("avx2");
 
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& range) {
     RTCIntersectContext context;
@@ -286,7 +371,8 @@ Status ViewRenderer::Render(const PinholeCamera& camera, const Eigen::Isometry3d
     alignas(64) RTCRayHit16 packet;
     alignas(64) int valid[16];
     const ShadeContext c = ctx;
-    ShadedPacket shaded;
+    const bool avx2 = use_avx2;
+    ShadedTile shaded;
     float* __restrict depth = view->depth.data.data();
     float* __restrict normal = view->normal.data.data();
     int32_t* __restrict primitive = view->primitive.data.data();
@@ -339,24 +425,27 @@ Status ViewRenderer::Render(const PinholeCamera& camera, const Eigen::Isometry3d
           packet.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
         }
         rtcIntersect16(valid, rc.scene, &context, &packet);
-        ShadePacket(c, packet, valid, &shaded);
-        local_hits += size_t(shaded.hits);
-        // Interleave the packet's rows into the images (4 contiguous pixels per row).
-        const int cols = std::min(kPacketSide, w - sx);
-        for (int row = 0; row < kPacketSide && sy + row < h; ++row) {
-          const size_t idx = size_t(sy + row) * w + sx;
-          const int l0 = row * kPacketSide;
-          std::memcpy(depth + idx, &shaded.depth[l0], cols * sizeof(float));
-          std::memcpy(primitive + idx, &shaded.primitive[l0], cols * sizeof(int32_t));
-          for (int col = 0; col < cols; ++col) {
-            const int l = l0 + col;
-            const size_t i = idx + col;
-            normal[3 * i] = shaded.nx[l];
-            normal[3 * i + 1] = shaded.ny[l];
-            normal[3 * i + 2] = shaded.nz[l];
-            key[i] = VoxelKey{uint16_t(shaded.kx[l]), uint16_t(shaded.ky[l]), uint16_t(shaded.kz[l])};
-          }
-          std::memcpy(rgb + 3 * idx, &shaded.rgb[3 * l0], 3 * cols);
+        const int col = sub * kPacketSide;
+        local_hits += size_t(avx2 ? ShadePacketAvx2(c, packet, valid, col, &shaded)
+                                  : ShadePacketSse2(c, packet, valid, col, &shaded));
+      }
+      // Copy the tile's rows into the images: fixed-size copies for whole tiles.
+      const int rows = std::min(kTileHeight, h - ty0), cols = std::min(kTileWidth, w - tx0);
+      for (int row = 0; row < rows; ++row) {
+        const size_t idx = size_t(ty0 + row) * w + tx0;
+        const int t = row * kTileWidth;
+        if (cols == kTileWidth) {
+          std::memcpy(depth + idx, &shaded.depth[t], kTileWidth * sizeof(float));
+          std::memcpy(primitive + idx, &shaded.primitive[t], kTileWidth * sizeof(int32_t));
+          std::memcpy(normal + 3 * idx, &shaded.normal[3 * t], 3 * kTileWidth * sizeof(float));
+          std::memcpy(key + idx, &shaded.key[t], kTileWidth * sizeof(VoxelKey));
+          std::memcpy(rgb + 3 * idx, &shaded.rgb[3 * t], 3 * kTileWidth);
+        } else {
+          std::memcpy(depth + idx, &shaded.depth[t], cols * sizeof(float));
+          std::memcpy(primitive + idx, &shaded.primitive[t], cols * sizeof(int32_t));
+          std::memcpy(normal + 3 * idx, &shaded.normal[3 * t], 3 * cols * sizeof(float));
+          std::memcpy(key + idx, &shaded.key[t], cols * sizeof(VoxelKey));
+          std::memcpy(rgb + 3 * idx, &shaded.rgb[3 * t], 3 * cols);
         }
       }
     }

@@ -8,7 +8,7 @@
 //   if (view.hit(x, y)) ... view.voxel_key.at(x, y) ...
 //
 // Pixels whose ray hits nothing (holes in the mesh, beyond max_depth_m) stay empty: black, depth 0,
-// normal 0, primitive -1, key {0,0,0}. The image is traced in 8x8-pixel tiles spread over all cores (TBB),
+// normal 0, primitive -1, key {0,0,0}. The image is traced in 16x4-pixel tiles spread over all cores (TBB),
 // each tile as four 16-ray packets; every pixel is shaded by one pure function of its hit.
 #pragma once
 
