@@ -882,6 +882,8 @@ RoomTypeWeights CalibrateWeightScale(const std::vector<RoomTypeTrainingScene>& s
   // A zero vector has no direction to scale: fall back to the scene term alone.
   Features f = {weights.scene, weights.objects[0], weights.objects[1], weights.objects[2], weights.objects[3], weights.homogeneity};
   if (std::all_of(f.begin(), f.end(), [](double v) { return v <= 0; })) f[0] = 1;
+  const double largest = *std::max_element(f.begin(), f.end());
+  for (double& v : f) v /= largest;  // Direction only: the largest weight becomes 1.
   double best_acc = -1, best_scale = 1;
   for (double scale : scales) {
     Features sf = f;

@@ -268,8 +268,9 @@ RoomTypeWeights LearnWeightsSsvm(const std::vector<RoomTypeTrainingScene>& scene
                                  const RoomTypeVariant& variant, const RoomTypeCrfOptions& options, const SsvmOptions& ssvm);
 // Scale of the weights for sampling. The SSVM fixes the direction of w (and, when the scene evidence is weak,
 // drives a lone scene weight towards 0, which would make the sampler draw uniformly); the marginals' argmax
-// depends on the scale (the sampler's temperature). Picks the factor of `scales` whose Gibbs marginals (with
-// the sweeps of `options`) give the best pixel accuracy on the scenes; returns the scaled weights.
+// depends on the scale (the sampler's temperature). Normalises w so that its largest entry is 1, picks the
+// factor of `scales` whose Gibbs marginals (with the sweeps of `options`) give the best pixel accuracy on the
+// scenes, and returns the scaled weights.
 RoomTypeWeights CalibrateWeightScale(const std::vector<RoomTypeTrainingScene>& scenes, const RoomTypeModel& model,
                                      const RoomTypeVariant& variant, const RoomTypeWeights& weights,
                                      const RoomTypeCrfOptions& options, const std::vector<double>& scales,

@@ -337,7 +337,7 @@ Result<RoomTypeModel> TrainRoomTypeModel(const std::vector<RoomViewRecord>& reco
     RoomTypeCrfOptions calib = options.crf;  // Shorter chains for the scale search.
     calib.burn_in_sweeps = 10, calib.sample_sweeps = 30;
     double scale = 1;
-    const RoomTypeWeights w = CalibrateWeightScale(scenes, model, v, direction, calib, {1, 3, 10, 30}, &scale);
+    const RoomTypeWeights w = CalibrateWeightScale(scenes, model, v, direction, calib, {1, 3, 10, 30, 100}, &scale);
     model.SetWeights(v, w);
     rep << v.Name() << " (SSVM direction x " << scale << "): w_c " << w.scene << " w_obj " << w.objects[0] << " " << w.objects[1] << " " << w.objects[2] << " "
         << w.objects[3] << " w_hom " << w.homogeneity << "\n";

@@ -1,0 +1,84 @@
+// apps/room_types_stage.h: the stage writes typed rooms.geojson (the properties `semvox eval` reads: id and
+// type_id, plus probability and second type), rooms.png, rooms.svg and rooms_types.png; a missing model is one
+// clear error.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include "apps/room_types_stage.h"
+
+namespace semvox {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
+  // Two 2 m x 2 m rooms side by side (wall at x = 2 m with a door), 0.05 m cells.
+  FloorPlan plan;
+  plan.resolution_m = 0.05;
+  plan.cells = Image<uint8_t>(84, 44, 1, uint8_t(FloorCell::kWall));
+  plan.ceiling_height_m = ImageF32(84, 44, 1, 2.5f);
+  RoomSegmentation rooms;
+  rooms.room_ids = ImageU16(84, 44, 1, 0);
+  for (int y = 2; y < 42; ++y)
+    for (int x = 2; x < 82; ++x) {
+      if (x == 41 || x == 42) {
+        if (y >= 18 && y < 26) plan.cells.at(x, y) = uint8_t(FloorCell::kDoor), rooms.room_ids.at(x, y) = 1;
+        continue;
+      }
+      plan.cells.at(x, y) = uint8_t(FloorCell::kFree);
+      rooms.room_ids.at(x, y) = x < 41 ? 1 : 2;
+    }
+  rooms.room_extent_ids = rooms.room_ids;
+  rooms.num_rooms = 2;
+  auto peaked = [](int index) {
+    std::array<double, kRoomTypeLabels> p;
+    p.fill(0.02);
+    p[size_t(index)] = 1 - 0.02 * (kRoomTypeLabels - 1);
+    return p;
+  };
+  std::vector<ViewRoomEvidence> views;
+  for (int h = 0; h < 4; ++h) {
+    ViewRoomEvidence a;
+    a.position = {1.1, 1.1, 1.6}, a.yaw_rad = h * M_PI / 2, a.hfov_rad = 1.2, a.max_range_m = 5, a.p = peaked(5);  // Kitchen.
+    ViewRoomEvidence b = a;
+    b.position = {3.1, 1.1, 1.6}, b.p = peaked(1);  // Bedroom.
+    views.push_back(a), views.push_back(b);
+  }
+  const fs::path dir = fs::temp_directory_path() / "semvox_room_types_stage_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  RoomTypeModel model = RoomTypeModel::Uninformative();
+  RoomTypeCrfOptions options;
+  model.SetWeights(options.variant, RoomTypeWeights{5.0, {1, 1, 1, 1}, 1.0});
+  options.model_path = (dir / "model.json").string();
+  ASSERT_TRUE(SaveRoomTypeModel(model, options.model_path).ok());
+  nlohmann::ordered_json summary;
+  const Status st = RunRoomTypeStage(plan, rooms, views, {}, options, dir.string(), &summary);
+  ASSERT_TRUE(st.ok()) << st.message();
+  for (const char* f : {"rooms.png", "rooms.geojson", "rooms.svg", "rooms_types.png"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+  std::ifstream in(dir / "rooms.geojson");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  std::map<int, int> types;
+  for (const auto& f : j.at("features")) {
+    const auto& p = f.at("properties");
+    types[p.at("id").get<int>()] = p.at("type_id").get<int>();
+    EXPECT_GT(p.at("probability").get<double>(), 0.5);
+    EXPECT_NE(p.at("second_type_id").get<int>(), p.at("type_id").get<int>());
+    EXPECT_TRUE(p.contains("second_type") && p.contains("second_probability") && p.contains("area_m2"));
+  }
+  EXPECT_EQ(types[1], 6);  // Kitchen.
+  EXPECT_EQ(types[2], 2);  // Bedroom.
+  EXPECT_EQ(summary["room_types"]["rooms"].size(), 2u);
+  // A missing model: one error naming the file.
+  options.model_path = (dir / "missing.json").string();
+  const Status bad = RunRoomTypeStage(plan, rooms, views, {}, options, dir.string(), nullptr);
+  EXPECT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("missing.json"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace semvox
