@@ -4,8 +4,11 @@
 // The frame: a 640x480 pinhole camera (90 x 74 degrees) at scanner height inside the demo apartment, rays
 // cast with Embree to the mesh (end points = exact surface hits), max range 5 m as in the reference figures.
 //
-//   build/bin/voxelize_bench [--mesh scenes/demo_apartment.ply] [--repeats 5] [--resolution 0.05]
+//   build/bin/voxelize_bench [--mesh scenes/demo_apartment.ply] [--repeats 5] [--resolution 0.05] [--threads 2]
+//
+// --threads caps the threads semvox may use (OctoMap always runs on one); the default is all cores.
 #include <octomap/OcTree.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <chrono>
@@ -13,6 +16,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "io/load_scene.h"
@@ -30,13 +34,17 @@ static double Median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   std::string mesh_path = std::string(SEMVOX_SOURCE_DIR) + "/scenes/demo_apartment.ply";
-  int repeats = 5;
+  int repeats = 5, threads = 0;
   std::vector<double> resolutions = {0.05, 0.02};
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--mesh")) mesh_path = argv[i + 1];
     if (!std::strcmp(argv[i], "--repeats")) repeats = std::max(1, std::atoi(argv[i + 1]));
     if (!std::strcmp(argv[i], "--resolution")) resolutions = {std::atof(argv[i + 1])};
+    if (!std::strcmp(argv[i], "--threads")) threads = std::max(1, std::atoi(argv[i + 1]));
   }
+  std::unique_ptr<tbb::global_control> threads_limit;
+  if (threads > 0)
+    threads_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(threads));
   Result<Scene> scene = LoadScene(mesh_path);
   if (!scene.ok()) { std::fprintf(stderr, "%s\n", scene.status().message().c_str()); return 2; }
   Result<Raycaster> rc = Raycaster::FromScene(scene.value());

@@ -6,13 +6,18 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 
 #include "mapping/ray_traversal.h"
 
 namespace semvox {
 namespace {
 
-constexpr uint8_t kFreeBit = 1, kOccupiedBit = 2;
+// Cell states in the frame's dense grid. Free cells are written during the (parallel) traversal, occupied
+// ones afterwards, so that "occupied wins" needs no read-modify-write: every write is a plain store of a
+// constant.
+constexpr uint8_t kFreeCell = 1, kOccupiedCell = 2;
 
 // OctoMap's point3d::norm(): float sum of squares, square root in double.
 double OctomapNorm(const Eigen::Vector3f& d) {
@@ -31,6 +36,127 @@ Eigen::Vector3f RayEnd(const Eigen::Vector3f& origin, const Eigen::Vector3f& p, 
   const Eigen::Vector3f step(dir[0] * float(max_range), dir[1] * float(max_range), dir[2] * float(max_range));
   return Eigen::Vector3f(origin[0] + step[0], origin[1] + step[1], origin[2] + step[2]);
 }
+
+// One ray of TraverseGrid<true> (mapping/ray_traversal.h), set up with the same arithmetic and stepped by
+// TraverseLanes below. Inside-grid variant: the caller guarantees the kInsideMargin around all ray ends.
+struct LaneRay {
+  int64_t idx = 0, end_idx = 0, budget = -1;
+  int64_t step_idx[3] = {0, 0, 0};
+  double t_max[3] = {0, 0, 0}, t_delta[3] = {0, 0, 0};
+  double length = 0;
+};
+
+// Sets up the traversal from `origin` to `end` as TraverseGrid<true> does; returns false when the ray
+// visits nothing at all (origin and end in one cell). Otherwise the origin cell (`ray->idx`) is the first
+// cell visited and the lane steps from there.
+inline bool SetUpLane(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, double resolution,
+                      const int grid_origin_key[3], const int64_t stride[3], LaneRay* ray) {
+  const double inv = 1.0 / resolution;
+  int64_t cur[3], ke[3];
+  for (int i = 0; i < 3; ++i) {
+    cur[i] = int64_t(std::floor(origin[i] * inv)) + kKeyOffset - grid_origin_key[i];
+    ke[i] = int64_t(std::floor(end[i] * inv)) + kKeyOffset - grid_origin_key[i];
+  }
+  if (cur[0] == ke[0] && cur[1] == ke[1] && cur[2] == ke[2]) return false;
+  ray->idx = cur[2] * stride[2] + cur[1] * stride[1] + cur[0];
+  float direction[3] = {end[0] - origin[0], end[1] - origin[1], end[2] - origin[2]};
+  const float norm_sq = direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2];
+  const float length = float(std::sqrt(double(norm_sq)));
+  for (float& d : direction) d /= length;
+  ray->length = length;
+  for (int i = 0; i < 3; ++i) {
+    const int step = direction[i] > 0.0f ? 1 : (direction[i] < 0.0f ? -1 : 0);
+    ray->step_idx[i] = step * stride[i];
+    if (step != 0) {
+      double border = (double(cur[i] + grid_origin_key[i] - kKeyOffset) + 0.5) * resolution;
+      border += float(step * resolution * 0.5);
+      ray->t_max[i] = (border - origin[i]) / direction[i];
+      ray->t_delta[i] = resolution / std::fabs(direction[i]);
+    } else {
+      ray->t_max[i] = std::numeric_limits<double>::max();
+      ray->t_delta[i] = std::numeric_limits<double>::max();
+    }
+  }
+  ray->end_idx = ke[2] * stride[2] + ke[1] * stride[1] + ke[0];
+  ray->budget = std::abs(ke[0] - cur[0]) + std::abs(ke[1] - cur[1]) + std::abs(ke[2] - cur[2]) + kInsideMargin;
+  return true;
+}
+
+#pragma GCC diagnostic ignored "-Wpsabi"  // Vectors never cross a call here (all helpers are inlined).
+
+// Steps kLanes rays at once (GCC vector extensions: one SIMD register per quantity with AVX2 and 4 lanes,
+// SSE2 with 2), each exactly as TraverseGrid<true>'s loop: the axis with the smallest t_max (ties as
+// OctoMap breaks them), stop on entering the end cell or when the smallest t_max passes the length, or
+// when the step budget is spent; every other cell entered is marked free. A lane whose ray is done takes
+// the next ray of [*next, count) so that all lanes keep working. The t_max updates are additions only
+// (no product to fuse), so the arithmetic is OctoMap's in every instruction set.
+template <int kLanes>
+struct LaneVectors {
+  typedef double D __attribute__((vector_size(8 * kLanes)));
+  typedef int64_t L __attribute__((vector_size(8 * kLanes)));
+};
+
+template <int kLanes>
+inline __attribute__((always_inline)) void TraverseLanesImpl(const LaneRay* rays, size_t count, uint8_t* cells) {
+  using D = typename LaneVectors<kLanes>::D;
+  using L = typename LaneVectors<kLanes>::L;
+  D t0, t1, t2, d0, d1, d2, len;
+  L idx, end, s0, s1, s2, budget, active;
+  size_t next = 0;
+  const auto load = [&](int lane) {
+    // The next ray into `lane`, or an idle lane when none is left.
+    if (next < count) {
+      const LaneRay& r = rays[next++];
+      t0[lane] = r.t_max[0], t1[lane] = r.t_max[1], t2[lane] = r.t_max[2];
+      d0[lane] = r.t_delta[0], d1[lane] = r.t_delta[1], d2[lane] = r.t_delta[2];
+      len[lane] = r.length;
+      idx[lane] = r.idx, end[lane] = r.end_idx;
+      s0[lane] = r.step_idx[0], s1[lane] = r.step_idx[1], s2[lane] = r.step_idx[2];
+      budget[lane] = r.budget;
+      active[lane] = -1;
+    } else {
+      t0[lane] = t1[lane] = t2[lane] = d0[lane] = d1[lane] = d2[lane] = len[lane] = 0;
+      idx[lane] = end[lane] = s0[lane] = s1[lane] = s2[lane] = budget[lane] = 0;
+      active[lane] = 0;
+    }
+  };
+  for (int lane = 0; lane < kLanes; ++lane) load(lane);
+  while (true) {
+    budget -= 1;
+    active &= budget >= 0;
+    const L a01 = t0 < t1, a02 = t0 < t2, a12 = t1 < t2;
+    const L m0 = a01 & a02, m1 = ~a01 & a12, m2 = ~(m0 | m1);
+    idx += (m0 & s0) | (m1 & s1) | (m2 & s2);
+    t0 = m0 ? t0 + d0 : t0;
+    t1 = m1 ? t1 + d1 : t1;
+    t2 = m2 ? t2 + d2 : t2;
+    active &= idx != end;
+    D mn = t1 < t0 ? t1 : t0;  // std::min(std::min(t0, t1), t2).
+    mn = t2 < mn ? t2 : mn;
+    active &= ~(mn > len);
+    bool all = true;
+    for (int lane = 0; lane < kLanes; ++lane) {
+      if (active[lane]) {
+        std::atomic_ref<uint8_t> cell(cells[idx[lane]]);
+        if (cell.load(std::memory_order_relaxed) == 0) cell.store(kFreeCell, std::memory_order_relaxed);
+      } else {
+        all = false;
+      }
+    }
+    if (all) continue;
+    bool any = false;
+    for (int lane = 0; lane < kLanes; ++lane) {
+      if (!active[lane]) load(lane);
+      any |= active[lane] != 0;
+    }
+    if (!any) return;
+  }
+}
+
+__attribute__((target("avx2"))) void TraverseLanesAvx2(const LaneRay* rays, size_t count, uint8_t* cells) {
+  TraverseLanesImpl<4>(rays, count, cells);
+}
+void TraverseLanesSse2(const LaneRay* rays, size_t count, uint8_t* cells) { TraverseLanesImpl<2>(rays, count, cells); }
 
 }  // namespace
 
@@ -73,40 +199,53 @@ FrameUpdate IntegrateFrame(const Eigen::Vector3f& origin, const std::vector<Eige
     lo[i] = std::max<int64_t>(0, b.lo[i] - kInsideMargin);
     dim[i] = std::min<int64_t>(65535, b.hi[i] + kInsideMargin) - lo[i] + 1;
   }
-  std::vector<uint8_t> bits(size_t(dim[0]) * dim[1] * dim[2], 0);
+  std::vector<uint8_t> cells(size_t(dim[0]) * dim[1] * dim[2], 0);
   auto index = [&](int64_t kx, int64_t ky, int64_t kz) {
     return (size_t(kz - lo[2]) * dim[1] + size_t(ky - lo[1])) * dim[0] + size_t(kx - lo[0]);
   };
 
-  // 2. Rays in parallel; each thread ORs bits into the shared bitmap (a grid whose first cell has key lo).
+  // 2. Free cells: rays in parallel, set up one by one and stepped several at a time (TraverseLanes);
+  // threads store the constant kFreeCell into the shared grid (a grid whose first cell has key lo).
   const int grid_key[3] = {int(lo[0]), int(lo[1]), int(lo[2])};
-  const int grid_dims[3] = {int(dim[0]), int(dim[1]), int(dim[2])};
+  const int64_t stride[3] = {1, dim[0], dim[0] * dim[1]};
+  static const bool avx2 = __builtin_cpu_supports("avx2");
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<LaneRay> lanes;
+    lanes.reserve(r.size());
+    bool origin_visited = false;
     for (size_t j = r.begin(); j != r.end(); ++j) {
       const Eigen::Vector3f& e = ends[j];
-      const int64_t kx = key_of(e[0]), ky = key_of(e[1]), kz = key_of(e[2]);
-      // computeRayKeys gives nothing for an end outside the key range; the end voxel is occupied only when
-      // the end point was within range.
-      if (!(KeyIndexInRange(kx) && KeyIndexInRange(ky) && KeyIndexInRange(kz))) continue;
-      if (in_range[j])
-        std::atomic_ref<uint8_t>(bits[index(kx, ky, kz)]).fetch_or(kOccupiedBit, std::memory_order_relaxed);
-      TraverseGrid<true>(origin, e, resolution, grid_key, grid_dims, [&](size_t idx) {
-        uint8_t& cell = bits[idx];
-        if (!(std::atomic_ref<uint8_t>(cell).load(std::memory_order_relaxed) & kFreeBit))
-          std::atomic_ref<uint8_t>(cell).fetch_or(kFreeBit, std::memory_order_relaxed);
-        return true;
-      });
+      // computeRayKeys gives nothing for an end outside the key range.
+      if (!(KeyIndexInRange(key_of(e[0])) && KeyIndexInRange(key_of(e[1])) && KeyIndexInRange(key_of(e[2]))))
+        continue;
+      LaneRay ray;
+      if (!SetUpLane(origin, e, resolution, grid_key, stride, &ray)) continue;
+      if (!origin_visited) {  // Every ray starts in the origin's cell: mark it once.
+        std::atomic_ref<uint8_t>(cells[ray.idx]).store(kFreeCell, std::memory_order_relaxed);
+        origin_visited = true;
+      }
+      lanes.push_back(ray);
     }
+    if (avx2) TraverseLanesAvx2(lanes.data(), lanes.size(), cells.data());
+    else TraverseLanesSse2(lanes.data(), lanes.size(), cells.data());
   });
+  // 3. Occupied cells: the end cell of every ray that ended within range (a cell both free and occupied is
+  // occupied). After the traversal, so that these stores win.
+  for (size_t j = 0; j < n; ++j) {
+    if (!in_range[j]) continue;
+    const Eigen::Vector3f& e = ends[j];
+    const int64_t kx = key_of(e[0]), ky = key_of(e[1]), kz = key_of(e[2]);
+    if (KeyIndexInRange(kx) && KeyIndexInRange(ky) && KeyIndexInRange(kz)) cells[index(kx, ky, kz)] = kOccupiedCell;
+  }
 
-  // 3. Collect keys in grid order (z, then y, then x).
+  // 4. Collect keys in grid order (z, then y, then x).
   for (int64_t kz = 0; kz < dim[2]; ++kz)
     for (int64_t ky = 0; ky < dim[1]; ++ky) {
-      const uint8_t* row = &bits[(size_t(kz) * dim[1] + size_t(ky)) * dim[0]];
+      const uint8_t* row = &cells[(size_t(kz) * dim[1] + size_t(ky)) * dim[0]];
       for (int64_t kx = 0; kx < dim[0]; ++kx) {
         if (!row[kx]) continue;
         const VoxelKey k{uint16_t(lo[0] + kx), uint16_t(lo[1] + ky), uint16_t(lo[2] + kz)};
-        (row[kx] & kOccupiedBit ? out.occupied : out.free).push_back(k);
+        (row[kx] == kOccupiedCell ? out.occupied : out.free).push_back(k);
       }
     }
   return out;
