@@ -48,8 +48,9 @@ ImageF32 LocalEntropy(const Image<uint8_t>& channel, int window) {
       for (int x = 0; x < w; ++x) {
         // Eq. 1 with p = c / n: -sum p log2 p = log2 n - (1/n) sum c log2 c.
         out.at(x, y) = float(std::max(0.0, std::log2(double(n)) - s / n));
-        if (x + r + 1 < w) add(x + r + 1, +1);
+        // Remove the leaving column before adding the entering one: a bin never holds more than window^2.
         if (x - r >= 0) add(x - r, -1);
+        if (x + r + 1 < w) add(x + r + 1, +1);
       }
     }
   });

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "render/camera.h"
+#include "objects/support_truth.h"
 #include "tests/perception/test_views.h"
 
 namespace semvox {
@@ -61,6 +62,53 @@ TEST(SupportFeatures, HeightAndNormalOfAFlatTop) {
   EXPECT_TRUE(f->has_depth[0] && f->has_depth[1]);
   EXPECT_GT(top[kSupportEntropyR], 0.5f);   // R varies along x.
   EXPECT_NEAR(top[kSupportEntropyG], 0.f, 1e-5f);
+}
+
+}  // namespace
+}  // namespace semvox
+
+namespace semvox {
+namespace {
+
+// Two passes over the same generated views give bit-identical features (training is deterministic). This
+// caught the sliding histogram adding the entering column before removing the leaving one: a bin could
+// hold 90 counts in a 9 x 9 window and the c log c table was read past its end.
+TEST(SupportFeatures, DeterministicOnGeneratedViews) {
+  std::vector<std::vector<float>> first;
+  for (int pass = 0; pass < 2; ++pass) {
+    int k = 0;
+    ASSERT_TRUE(ForEachSupportView(0, TrainingViewsOptions{}, SupportTruthOptions{}, [&](const SupportView& v) {
+      if (k >= 6) return Status::Ok();
+      Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, SuperpixelOptions{});
+      if (!sp.ok()) return sp.status();
+      Result<SupportFeatures> f = ComputeSupportFeatures(*v.view, *sp, SupportFeatureOptions{});
+      if (!f.ok()) return f.status();
+      Result<SupportFeatures> again = ComputeSupportFeatures(*v.view, *sp, SupportFeatureOptions{});
+      EXPECT_TRUE(again->rows == f->rows) << "view " << k << ": same input, different features";
+      if (pass == 0) first.push_back(f->rows);
+      else EXPECT_TRUE(first[size_t(k)] == f->rows) << "view " << k << ": second pass differs";
+      ++k;
+      return Status::Ok();
+    }).ok());
+  }
+}
+
+// Window counts stay within window^2 everywhere, also on the worst case (one value everywhere): entropy 0.
+TEST(LocalEntropy, MatchesBruteForceOnRandomImage) {
+  Image<uint8_t> img(37, 23, 1);
+  uint32_t state = 12345;
+  for (auto& v : img.data) v = uint8_t((state = state * 1664525u + 1013904223u) >> 29);  // 8 values
+  const ImageF32 e = LocalEntropy(img, 9);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      int hist[256] = {0}, n = 0;
+      for (int yy = std::max(0, y - 4); yy <= std::min(img.height - 1, y + 4); ++yy)
+        for (int xx = std::max(0, x - 4); xx <= std::min(img.width - 1, x + 4); ++xx) ++hist[img.at(xx, yy)], ++n;
+      double h = 0;
+      for (int c : hist)
+        if (c > 0) h -= double(c) / n * std::log2(double(c) / n);
+      ASSERT_NEAR(e.at(x, y), h, 1e-5) << x << "," << y;
+    }
 }
 
 }  // namespace
