@@ -5,7 +5,12 @@
 #include <iostream>
 
 #include "apps/commands.h"
+#include "apps/onnx_stage.h"
+#include "apps/room_types_stage.h"
 #include "apps/semantic_stage.h"
+#include "io/image_io.h"
+#include "objects/support_stage.h"
+#include "report/report.h"
 #include "core/file_util.h"
 #include "core/log.h"
 #include "core/progress.h"
@@ -92,11 +97,20 @@ Status RunPipeline(const RunArgs& args) {
   views.seconds_build = Seconds(t0);
   // The semantic stage (issue 6) gathers depth evidence from every kept view as it is rendered.
   std::unique_ptr<SemanticStage> semantic;
+  // ... and the support / clutter stage (issue 8) sees every classification view.
+  std::unique_ptr<SupportClutterStage> support;
+  const std::string models_dir = args.models_dir.empty() ? DefaultModelsDir() : args.models_dir;
   if (config.semantic.enabled) {
-    Result<std::unique_ptr<SemanticStage>> st =
-        SemanticStage::Create(map, renderer.value(), config.semantic, args.models_dir.empty() ? DefaultModelsDir() : args.models_dir);
+    Result<std::unique_ptr<SemanticStage>> st = SemanticStage::Create(map, renderer.value(), config.semantic, models_dir);
     if (!st.ok()) return st.status();
     semantic = std::move(st).value();
+    if (args.onnx) semantic->SetOnnxModels(args.onnx.get());
+    SupportStageOptions so;
+    so.fusion.voxel_size_m = config.voxelize.voxel_size_m;
+    Result<std::unique_ptr<SupportClutterStage>> sup = SupportClutterStage::Create(so, models_dir);
+    if (!sup.ok()) return sup.status();
+    support = std::move(sup).value();
+    semantic->SetViewHook([&support](const RenderedView& view) { return support->AddView(view); });
   }
   SEMVOX_RETURN_IF_ERROR(RunViewsStage(renderer.value(), map, config.render, args.outdir, args.save_views, &views,
                                        semantic ? semantic->DepthSink() : ViewSink{}));
@@ -134,13 +148,37 @@ Status RunPipeline(const RunArgs& args) {
     progress.Begin("rooms");
     const FloorPlan plan = FloorPlanFromVoxels(final_grid, map.floor_z, map.ceiling_z, occ, config.floor_plan);
     const RoomSegmentation rooms = SegmentRooms(plan, config.rooms);
-    SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(args.outdir, plan, rooms));
+    nlohmann::ordered_json types_summary;
+    if (semantic) {
+      // Room types (issue 7): the room-type CRF over the classification views' evidence and the semantic
+      // top view; it writes rooms.png / .geojson / .svg with types (split-off areas get new ids).
+      std::vector<ViewRoomEvidence> evidence;
+      for (const ClassifiedViewRoomEvidence& e : semantic->room_evidence()) {
+        ViewRoomEvidence v;
+        v.position = e.position;
+        v.yaw_rad = e.yaw_rad;
+        v.hfov_rad = e.hfov_rad;
+        v.max_range_m = e.max_range_m;
+        v.p = e.p;
+        evidence.push_back(v);
+      }
+      const ImageU16 topview = SemanticTopView(semantic->semantic_map(), map.grid, map.floor_z, config.occupancy.band_min_above_floor_m,
+                                               config.occupancy.band_max_above_floor_m);
+      RoomTypeCrfOptions rt = config.room_types;
+      if (rt.model_path.empty()) rt.model_path = models_dir + "/room_type_crf.json";
+      SEMVOX_RETURN_IF_ERROR(RunRoomTypeStage(plan, rooms, evidence, topview, rt, args.outdir, &types_summary));
+    } else {
+      SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(args.outdir, plan, rooms));
+    }
     timing["rooms"] = Seconds(t0);
     progress.End();
     if (semantic) {
       t0 = Clock::now();
-      SEMVOX_RETURN_IF_ERROR(semantic->Write(args.outdir, &rooms.room_extent_ids, config.occupancy.band_min_above_floor_m,
+      Result<ImageU16> room_ids = ReadImageU16((fs::path(args.outdir) / "rooms.png").string());
+      if (!room_ids.ok()) return room_ids.status();
+      SEMVOX_RETURN_IF_ERROR(semantic->Write(args.outdir, &room_ids.value(), config.occupancy.band_min_above_floor_m,
                                              config.occupancy.band_max_above_floor_m, occ.image));
+      SEMVOX_RETURN_IF_ERROR(support->Write(args.outdir, final_grid));
       timing["semantic_exports"] = Seconds(t0);
     }
     rooms_summary = {{"method", RoomSegmentationMethodName(config.rooms.method)},
@@ -150,6 +188,7 @@ Status RunPipeline(const RunArgs& args) {
                      {"wall_cells", plan.Count(FloorCell::kWall)},
                      {"clutter_cells", plan.Count(FloorCell::kClutter)},
                      {"files", {"rooms.png", "rooms.geojson", "rooms.svg"}}};
+    for (auto& [k, v] : types_summary.items()) rooms_summary[k] = v;
     SEMVOX_INFO("rooms: " << rooms.num_rooms << " (" << plan.Count(FloorCell::kDoor) - plan.ceiling_step_cells
                           << " door cells, " << plan.ceiling_step_cells << " ceiling-step cells, "
                           << RoomSegmentationMethodName(config.rooms.method) << ")");
@@ -191,13 +230,22 @@ Status RunPipeline(const RunArgs& args) {
                 {"camera_z", views.camera_z}, {"surface_voxels", views.surface_voxels},
                 {"surface_voxels_seen", views.seen_surface_voxels}};  // render stage
   if (semantic) s["semantic"] = semantic->Summary();
+  if (support) {
+    const SupportStageSummary ss = support->summary();
+    s["objects"] = {{"views", ss.views}, {"voxels", ss.voxels}, {"support_voxels", ss.support_voxels},
+                    {"clutter_voxels", ss.clutter_voxels}, {"proposals", ss.proposals},
+                    {"files", {"support_clutter.ply", "support_clutter_topview.png", "object_proposals.json"}}};
+  }
   s["warnings"] = TakeWarnings();
   timing["total"] = Seconds(t_all);
   s["seconds"] = timing;
   const std::string text = s.dump(2) + "\n";
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(args.outdir) / "summary.json").string(), text));
+  // The self-contained HTML report of everything above (src/report).
+  SEMVOX_RETURN_IF_ERROR(WriteReport(args.outdir));
   if (args.json) std::cout << text;
-  SEMVOX_INFO("outputs in " << args.outdir << " (occupancy.pgm/.yaml, map.bt, summary.json)");
+  SEMVOX_INFO("outputs in " << args.outdir << (semantic ? " (report.html, voxels.ply, map.ot, semantic_topview.png, rooms.geojson, occupancy.pgm/.yaml, map.bt, summary.json, ...)"
+                                                        : " (report.html, occupancy.pgm/.yaml, rooms.geojson, map.bt, summary.json)"));
   return Status::Ok();
 }
 

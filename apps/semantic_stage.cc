@@ -1,5 +1,7 @@
 #include "apps/semantic_stage.h"
 
+#include "apps/onnx_stage.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -57,10 +59,14 @@ struct SemanticStage::Impl {
   std::vector<ClassifiedViewRoomEvidence> rooms;
   int classification_views = 0, skipped_views = 0;
   double seconds_classify = 0, seconds_depth = 0, seconds_solve = 0;
+  const OnnxModels* onnx = nullptr;
+  std::function<Status(const RenderedView&)> hook;
 };
 
 SemanticStage::SemanticStage(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 SemanticStage::~SemanticStage() = default;
+void SemanticStage::SetOnnxModels(const OnnxModels* models) { impl_->onnx = models; }
+void SemanticStage::SetViewHook(std::function<Status(const RenderedView&)> hook) { impl_->hook = std::move(hook); }
 
 Result<std::unique_ptr<SemanticStage>> SemanticStage::Create(const VoxelMap& map, const ViewRenderer& renderer,
                                                              const SemanticStageOptions& options, const std::string& models_dir) {
@@ -154,16 +160,41 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
       for (float d : slot.view.depth.data) depth_sum += d;
       const double hit_fraction = double(slot.view.hit_pixels) / double(slot.view.depth.data.size());
       if (hit_fraction < tv.min_hit_fraction || (slot.view.hit_pixels && depth_sum / double(slot.view.hit_pixels) < tv.min_mean_depth_m)) return;
-      Result<ViewClassification> c = s.classifier->Classify(slot.view);
-      if (!c.ok()) {
-        slot.status = c.status();
-        return;
+      Image<int32_t> predicted;
+      if (s.onnx && s.onnx->object) {
+        Result<ImageF32> q = s.onnx->object->PixelProbabilities(slot.view);
+        if (!q.ok()) {
+          slot.status = q.status();
+          return;
+        }
+        slot.superpixels = Superpixels{};
+        slot.probabilities = std::move(q->data);
+        ImageF32 view_q;
+        view_q.width = slot.view.camera.width, view_q.height = slot.view.camera.height, view_q.channels = K;
+        view_q.data = slot.probabilities;
+        predicted = PixelArgmax(view_q);
+      } else {
+        Result<ViewClassification> c = s.classifier->Classify(slot.view);
+        if (!c.ok()) {
+          slot.status = c.status();
+          return;
+        }
+        slot.superpixels = std::move(c->superpixels);
+        slot.probabilities.assign(c->union_marginals.p.begin(), c->union_marginals.p.end());
+        predicted = PixelLabels(slot.superpixels, c->union_labels);
       }
-      slot.superpixels = std::move(c->superpixels);
-      slot.probabilities.assign(c->union_marginals.p.begin(), c->union_marginals.p.end());
-      const Image<int32_t> predicted = PixelLabels(slot.superpixels, c->union_labels);
-      const std::vector<double> p = RoomTypeProbabilities(*s.room_knn, RoomViewDescriptor(slot.view, predicted, K),
-                                                          ObjectPixelFraction(slot.view, predicted, object_classes), 0.02);
+      std::vector<double> p;
+      if (s.onnx && s.onnx->scene) {
+        Result<std::vector<double>> r = s.onnx->scene->RoomTypeProbabilities(slot.view);
+        if (!r.ok()) {
+          slot.status = r.status();
+          return;
+        }
+        p = std::move(r).value();
+      } else {
+        p = RoomTypeProbabilities(*s.room_knn, RoomViewDescriptor(slot.view, predicted, K),
+                                  ObjectPixelFraction(slot.view, predicted, object_classes), 0.02);
+      }
       for (size_t t = 0; t < 12 && t < p.size(); ++t) slot.room[t] = p[t];
       slot.use = true;
     });
@@ -174,7 +205,8 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
         ++s.skipped_views;
         continue;
       }
-      s.acc->AddClassifiedView(slot.view, &slot.superpixels.label, slot.probabilities);
+      s.acc->AddClassifiedView(slot.view, slot.superpixels.count > 0 ? &slot.superpixels.label : nullptr, slot.probabilities);
+      if (s.hook) SEMVOX_RETURN_IF_ERROR(s.hook(slot.view));
       ClassifiedViewRoomEvidence r;
       r.position = poses[b0 + k].p;
       r.yaw_rad = poses[b0 + k].yaw * M_PI / 180.0;

@@ -9,6 +9,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -46,6 +47,10 @@ class SemanticStage {
   static Result<std::unique_ptr<SemanticStage>> Create(const VoxelMap& map, const ViewRenderer& renderer,
                                                        const SemanticStageOptions& options, const std::string& models_dir);
   ~SemanticStage();
+  // Optional: the user's ONNX networks replace the built-in per-view classifier and room-type evidence.
+  void SetOnnxModels(const struct OnnxModels* models);
+  // Optional: called once per used classification view, in order (e.g. the support / clutter stage).
+  void SetViewHook(std::function<Status(const RenderedView&)> hook);
   // Adds the depth, density, colour and normal evidence of every kept view.
   ViewSink DepthSink();
   // Renders and classifies the classification views from `positions` (x, y; the camera stands at the

@@ -120,7 +120,9 @@ Result<VoxelCrfModel> VoxelCrfModel::Load(const std::string& path) {
   for (int c = 0; c < k; ++c) {
     int idx = 0, id = 0;
     std::string name;
-    if (!(is >> idx >> id >> name) || idx != c || id < 0 || id >= kNumNyu40) return bad("bad class line " + std::to_string(c));
+    if (!(is >> idx >> id) || idx != c || id < 0 || id >= kNumNyu40 || !std::getline(is, name)) return bad("bad class line " + std::to_string(c));
+    name.erase(0, name.find_first_not_of(' '));  // Names may hold spaces ("shower curtain").
+    if (name.empty()) return bad("class line " + std::to_string(c) + " has no name");
     m.nyu40_of_class.push_back(id);
     m.class_names.push_back(name);
   }
@@ -144,6 +146,8 @@ bool VoxelCrfOptions::Check(std::string* error) const {
   if (max_iterations < 1 || max_iterations > 50) return fail("max_iterations = " + std::to_string(max_iterations) + ". Violated constraint: 1 <= max_iterations <= 50");
   if (!(plane_truncation > 0 && plane_truncation <= 0.5)) return fail("plane_truncation = " + std::to_string(plane_truncation) + ". Violated constraint: 0 < plane_truncation <= 0.5");
   if (!(object_truncation > 0 && object_truncation <= 0.5)) return fail("object_truncation = " + std::to_string(object_truncation) + ". Violated constraint: 0 < object_truncation <= 0.5");
+  if (!(visibility_tolerance >= 0 && visibility_tolerance <= 1))
+    return fail("visibility_tolerance = " + std::to_string(visibility_tolerance) + ". Violated constraint: 0 <= visibility_tolerance <= 1");
   if (min_object_voxels < 2) return fail("min_object_voxels = " + std::to_string(min_object_voxels) + ". Violated constraint: >= 2");
   return planes.Check(error) && solver.Check(error);
 }
@@ -470,7 +474,7 @@ Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const Vo
                                        << rec.sweeps << " sweeps, " << rec.edges << " edges, " << rec.cliques << " cliques, "
                                        << rec.changed_visibility << " rays changed their visible voxel (" << rec.seconds << " s)");
     result->iterations.push_back(std::move(rec));
-    if (result->iterations.back().changed_visibility == 0) break;
+    if (double(result->iterations.back().changed_visibility) <= options.visibility_tolerance * double(std::max<size_t>(1, vis.size()))) break;
   }
   for (const auto& c : problem.cliques) result->num_object_cliques += c.type == kWObject;
   // Confidence: p(l_i | neighbours) from the unary and pairwise terms of the final energy.

@@ -34,7 +34,7 @@
 // iteration: build the energy for V_t, minimise it by alpha-expansion (crf/solvers.h, own Boykov-Kolmogorov
 // max-flow, Robust P^n with auxiliary nodes), recompute V_{t+1} from the new labels by walking every ray to
 // its first voxel labelled occupied (Eq. 9: exactly one visible voxel per ray), and stop after
-// max_iterations or when V no longer changes.
+// max_iterations or when V (almost) no longer changes (visibility_tolerance).
 //
 // Learning (Sec. 5.2): structural SVM by stochastic subgradient descent (voxel_crf_learning.h).
 #pragma once
@@ -100,6 +100,7 @@ struct VoxelCrfModel {
 
 struct VoxelCrfOptions {
   int max_iterations = 5;            // Alg. 1 iterations at most. [1, 50].
+  double visibility_tolerance = 0.005;  // Stop once fewer than this fraction of rays change their visible voxel. [0, 1].
   bool use_pairwise = true;          // U+PW (false: U only).
   bool use_higher_order = true;      // U+PW+G (planes and objects).
   double plane_truncation = 0.25;    // Q / clique size for planes. (0, 0.5].

@@ -1,0 +1,83 @@
+// End to end (issue 6): `semvox run` on a generated apartment writes the semantic outputs, and `semvox eval`
+// scores them against the generator's ground truth above stated floors.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/ply.h"
+#include "io/image_io.h"
+#include "mapping/octomap_io.h"
+#include "tests/test_util.h"
+
+namespace semvox {
+namespace {
+
+int RunSemvox(const std::string& args, const std::string& log) {
+  const int rc = std::system((std::string(SEMVOX_BINARY) + " " + args + " > " + log + " 2>&1").c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+TEST(SemanticCli, GeneratedApartmentIsLabelledAboveTheStatedFloors) {
+  testing::ScratchDir dir("semantic_cli");
+  const std::string gt = dir.File("gt"), out = dir.File("out"), log = dir.File("log.txt");
+  ASSERT_EQ(RunSemvox("generate --seed 104 --set apartment.max_rooms=3 -o " + gt, log), 0) << testing::ReadText(log);
+  ASSERT_EQ(RunSemvox("run " + gt + "/mesh.ply -o " + out + " --config " + std::string(SEMVOX_SOURCE_DIR) + "/tests/data/semantic.yaml", log), 0)
+      << testing::ReadText(log);
+  for (const char* f : {"voxels.ply", "map.ot", "semantic_topview.png", "semantic_topview_labels.png", "rooms.geojson",
+                        "support_clutter.ply", "object_proposals.json", "report.html"})
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
+  // voxels.ply: the fields of the issue, one vertex per occupied voxel, rooms assigned.
+  Result<PlyData> ply = ReadPly(out + "/voxels.ply");
+  ASSERT_TRUE(ply.ok()) << ply.status().message();
+  const PlyElement* v = ply->Find("vertex");
+  ASSERT_NE(v, nullptr);
+  ASSERT_GT(v->count, 1000u);
+  size_t in_room = 0, completed = 0;
+  for (size_t i = 0; i < v->count; ++i) {
+    in_room += v->Find("room")->values[i] > 0;
+    completed += v->Find("completed")->values[i] > 0;
+    ASSERT_GT(v->Find("label")->values[i], 0);
+    ASSERT_GE(v->Find("confidence")->values[i], 0.0);
+    ASSERT_LE(v->Find("confidence")->values[i], 1.0);
+  }
+  // Floor, furniture and ceiling voxels above room cells carry their room; walls lie outside every room (-1).
+  EXPECT_GT(in_room, v->count / 10);
+  // map.ot reads back with the same occupied voxels.
+  double res = 0;
+  Result<std::vector<SemanticVoxel>> ot = ReadSemanticOctree(out + "/map.ot", &res);
+  ASSERT_TRUE(ot.ok()) << ot.status().message();
+  EXPECT_DOUBLE_EQ(res, 0.05);
+  size_t occupied = 0;
+  for (const SemanticVoxel& s : *ot) occupied += s.occupied;
+  EXPECT_EQ(occupied, v->count);
+  // The semantic top view is on the occupancy grid.
+  Result<ImageU16> top = ReadImageU16(out + "/semantic_topview_labels.png");
+  Result<ImageRgb8> pgm = ReadImageGrey8(out + "/occupancy.pgm");
+  ASSERT_TRUE(top.ok() && pgm.ok());
+  EXPECT_EQ(top->width, pgm->width);
+  EXPECT_EQ(top->height, pgm->height);
+  // Scores against the ground truth (docs/metrics.md). Floors stated here, measured well above them.
+  ASSERT_EQ(RunSemvox("eval --pred " + out + " --gt " + gt + " -o " + dir.File("eval.json"), log), 0) << testing::ReadText(log);
+  std::ifstream in(dir.File("eval.json"));
+  const nlohmann::json e = nlohmann::json::parse(in);
+  const double geo = e["a_top_view"]["geometric_accuracy"]["value"].get<double>();
+  const double visible = e["b_visible_voxels"]["accuracy"]["value"].get<double>();
+  const double nyu4 = e["c_nyu4"]["global"]["value"].get<double>();
+  std::printf("seed 104: top-view geometric %.3f, visible-voxel accuracy %.3f, NYU-4 global %.3f, %zu voxels (%zu completed)\n", geo,
+              visible, nyu4, size_t(v->count), completed);
+  EXPECT_GE(geo, 0.85) << "top-view geometric accuracy";
+  EXPECT_GE(visible, 0.60) << "visible-voxel accuracy (NYU40 ids)";
+  EXPECT_GE(nyu4, 0.70) << "visible-voxel NYU-4 global accuracy";
+  // Summary: Voxel-CRF energies per iteration.
+  std::ifstream sj(out + "/summary.json");
+  const nlohmann::json s = nlohmann::json::parse(sj);
+  ASSERT_TRUE(s.contains("semantic"));
+  EXPECT_GE(s["semantic"]["iterations"].size(), 1u);
+}
+
+}  // namespace
+}  // namespace semvox
