@@ -538,7 +538,7 @@ Result<std::string> RenderReportHtml(const std::string& outdir, const ReportOpti
         if (const auto* e = Get(it, "energy_per_sweep"); e && e->is_array())
           for (size_t k = 0; k < e->size(); ++k) sweeps += (k ? ", " : "") + ((*e)[k].is_number() ? Num((*e)[k].get<double>(), 1) : "?");
         html << "<tr><td>" << i + 1 << "</td><td>" << field("energy_initial", 1) << "</td><td>" << field("energy_final", 1) << "</td><td>"
-             << field("sweeps", -1) << "</td><td>" << field("changed_labels", -1) << "</td><td>" << field("seconds", 3)
+             << field("sweeps", -1) << "</td><td>" << field("changed_labels", -1) << "</td><td class=\"seconds\">" << field("seconds", 3)
              << "</td><td class=\"muted\">" << (sweeps.empty() ? "&mdash;" : sweeps) << "</td></tr>\n";
       }
       html << "</table>\n";

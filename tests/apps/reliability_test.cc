@@ -1,5 +1,7 @@
 // Reliability of `semvox run`: determinism, interrupt safety, and the bad-input matrix (docs/reliability.md).
 #include <gtest/gtest.h>
+
+#include <regex>
 #include <signal.h>
 #include <fcntl.h>
 #include <sys/wait.h>
@@ -64,6 +66,16 @@ TEST(Reliability, TwoRunsGiveByteIdenticalOutputs) {
     const std::string a = testing::ReadText(dir.File("a/" + f)), b = testing::ReadText(dir.File("b/" + f));
     if (f == "summary.json") {
       EXPECT_EQ(WithoutTimings(nlohmann::json::parse(a)), WithoutTimings(nlohmann::json::parse(b)));
+    } else if (f == "report.html") {
+      // The report shows seconds per stage and per CRF iteration; everything else must match.
+      const std::regex timings(R"(<table class="time"[\s\S]*?</table>|<td class="seconds">[^<]*</td>)");
+      // It also names its own directory (a or b).
+      auto normalise = [&](std::string html, const std::string& self) {
+        for (size_t p; (p = html.find(dir.File(self))) != std::string::npos;) html.replace(p, dir.File(self).size(), "OUTDIR");
+        html = std::regex_replace(html, std::regex("semvox report: " + self + "<"), "semvox report: OUTDIR<");
+        return std::regex_replace(html, timings, "");
+      };
+      EXPECT_EQ(normalise(a, "a"), normalise(b, "b")) << "report.html differs beyond timings";
     } else {
       EXPECT_TRUE(a == b) << f << " differs between runs";
     }

@@ -72,6 +72,13 @@ TEST(SemanticCli, GeneratedApartmentIsLabelledAboveTheStatedFloors) {
   EXPECT_GE(geo, 0.85) << "top-view geometric accuracy";
   EXPECT_GE(visible, 0.60) << "visible-voxel accuracy (NYU40 ids)";
   EXPECT_GE(nyu4, 0.70) << "visible-voxel NYU-4 global accuracy";
+  // Deterministic: a second run gives the same semantic outputs, byte for byte.
+  const std::string out2 = dir.File("out2");
+  ASSERT_EQ(RunSemvox("run " + gt + "/mesh.ply -o " + out2 + " --config " + std::string(SEMVOX_SOURCE_DIR) + "/tests/data/semantic.yaml", log), 0)
+      << testing::ReadText(log);
+  for (const char* f : {"voxels.ply", "map.ot", "semantic_topview_labels.png", "rooms.geojson", "rooms.png", "support_clutter.ply",
+                        "object_proposals.json", "occupancy.pgm"})
+    EXPECT_TRUE(testing::ReadText(out + "/" + f) == testing::ReadText(out2 + "/" + f)) << f << " differs between two runs";
   // Summary: Voxel-CRF energies per iteration.
   std::ifstream sj(out + "/summary.json");
   const nlohmann::json s = nlohmann::json::parse(sj);

@@ -122,7 +122,7 @@ TEST(Report, ShowsTheOutdirsNumbersAndInlineImages) {
   EXPECT_NE(html.find("table</td><td>1</td>"), std::string::npos);
   EXPECT_NE(html.find("60.0 %</td>"), std::string::npos);
   // Energies and seconds.
-  EXPECT_NE(html.find("<td>1</td><td>5123.5</td><td>4021.2</td><td>2</td><td>77</td><td>0.500</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>1</td><td>5123.5</td><td>4021.2</td><td>2</td><td>77</td><td class=\"seconds\">0.500</td>"), std::string::npos);
   EXPECT_NE(html.find("4500.0, 4021.2"), std::string::npos);
   EXPECT_NE(html.find("<td>voxelize</td>"), std::string::npos);
   EXPECT_NE(html.find("1.500"), std::string::npos);
