@@ -137,4 +137,16 @@ Status RunReport(const ReportArgs& args);
 std::string LabelsMarkdown();
 Status RunLabels();
 
+// ---- remove (apps/remove_command.cc; src/voxelcrf/object_removal.h) ----
+struct RemoveArgs {
+  std::string outdir;                // OUTDIR of a `semvox run` (voxels.ply, map.ot, summary.json).
+  std::string output;                // OUT2: where the edited map goes (must differ from OUTDIR).
+  std::vector<std::string> classes;  // NYU40 names (or ids) to remove.
+  std::vector<int> instances;        // Instance ids (`semvox remove OUTDIR --list`).
+  bool all_furniture = false;        // Every NYU-4 furniture and props voxel.
+  bool list = false;                 // Print the instances and exit.
+};
+// `semvox remove`: removes objects and completes the space behind them (Voxel-CRF paper, Sec. 6.4).
+Status RunRemove(const RemoveArgs& args);
+
 }  // namespace semvox

@@ -118,6 +118,17 @@ int main(int argc, char** argv) {
   CLI::App* report_cmd = app.add_subcommand("report", "(re)write OUTDIR/report.html from a run's outputs");
   report_cmd->add_option("outdir", report.outdir, "output directory of semvox run")->required();
   report_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
+  semvox::RemoveArgs remove_args;
+  CLI::App* remove_cmd = app.add_subcommand("remove", "remove objects from a run's map and complete the space behind them");
+  remove_cmd->add_option("outdir", remove_args.outdir, "output directory of semvox run")->required();
+  remove_cmd->add_option("-o,--output", remove_args.output, "output directory of the edited map");
+  auto* rm_class = remove_cmd->add_option("--class", remove_args.classes, "NYU40 class to remove (name or id; repeatable)");
+  auto* rm_inst = remove_cmd->add_option("--instance", remove_args.instances, "instance id to remove (see --list; repeatable)");
+  auto* rm_all = remove_cmd->add_flag("--all-furniture", remove_args.all_furniture, "remove every furniture and props voxel");
+  remove_cmd->add_flag("--list", remove_args.list, "print the instances (26-connected voxels of one label) and exit");
+  rm_class->excludes(rm_inst)->excludes(rm_all);
+  rm_inst->excludes(rm_all);
+  remove_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
   CLI::App* labels_cmd = app.add_subcommand("labels", "print the NYU40 classes, their 13/4-class mappings and the room types (Markdown)");
   std::string check_path;
   semvox::BatchArgs batch;
@@ -157,6 +168,7 @@ int main(int argc, char** argv) {
     if (*render_cmd) return Report(semvox::RunRender(render));
     if (*train_cmd) return Report(train.voxel_crf_only ? semvox::RunTrainVoxelCrf(train) : semvox::RunTrain(train));
     if (*report_cmd) return Report(semvox::RunReport(report));
+    if (*remove_cmd) return Report(semvox::RunRemove(remove_args));
     if (*labels_cmd) return Report(semvox::RunLabels());
     if (*config_cmd) {
       semvox::PipelineConfig config;
