@@ -274,7 +274,10 @@ Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::v
         float cost = k ? float(options.w_unseen) : 0.f;
         for (int f = 0; f < 6; ++f) {
           const int32_t code = nb[size_t(i)][size_t(f)];
-          if (code <= -2) cost += V(k, -2 - code);
+          // A fixed occupied neighbour only asks for semantic agreement: it does not pull unseen space
+          // into occupancy (that would thicken every surface into the unknown space behind it).
+          if (code == -2) cost += V(k, 0);
+          else if (code < -2 && k != 0) cost += V(k, -2 - code);
         }
         if (pl >= 0 && k != pl) cost += float(options.w_plane);
         u[k] = cost;

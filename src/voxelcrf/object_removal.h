@@ -18,7 +18,8 @@
 // takes a label l in {0 = empty} U {NYU40 labels of the planes and of the fixed voxels next to the nodes}:
 //
 //   unary (Eq. 3-4):   w_unseen [l != 0]                       occupying space nobody saw costs
-//                      + sum over fixed 6-neighbours j of V(l, l_j)   (free neighbours count as label 0)
+//                      + sum over free 6-neighbours of V(l, 0)  (the scanner saw through them)
+//                      + sum over fixed occupied 6-neighbours j of w_semantic [l != 0, l != l_j]
 //                      + w_plane [l != plane label]            nodes on an extended plane (Sec. 4.3)
 //   pairwise (Eq. 5):  V(l_i, l_j) over 6-adjacent nodes, V(a, b) = 0 if a = b, w_occupancy if exactly one
 //                      is empty, w_semantic if both are occupied with different labels (a metric for
