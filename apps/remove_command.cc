@@ -8,6 +8,7 @@
 #include "apps/commands.h"
 #include "apps/config.h"
 #include "core/file_util.h"
+#include "core/label_aliases.h"
 #include "core/labels.h"
 #include "core/log.h"
 #include "core/ply.h"
@@ -101,9 +102,8 @@ Status RunRemove(const RemoveArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   // Class names first: bad input fails before anything is read or written.
   RemovalSelection selection;
-  for (std::string name : args.classes) {
-    std::replace(name.begin(), name.end(), '_', ' ');
-    int id = Nyu40IdByName(name);
+  for (const std::string& name : args.classes) {
+    int id = Nyu40IdByAlias(name);  // Case, '_' / '-' and spelling variants ("night_stand", "refrigerator").
     if (id < 0 && !name.empty() && std::all_of(name.begin(), name.end(), ::isdigit)) id = std::stoi(name);
     if (id <= 0 || id >= kNumNyu40) {
       std::string valid;
