@@ -36,6 +36,12 @@ bool SemanticStageOptions::Check(std::string* error) const {
   return evidence.Check(error) && crf.Check(error);
 }
 
+std::vector<int> Nyu40OfClasses(const LabelLevel& level) {
+  std::vector<int> nyu40;
+  for (const std::string& name : level.class_names) nyu40.push_back(name == "other" ? nyu40::kOtherProp : Nyu40IdByName(name));
+  return nyu40;
+}
+
 std::string DefaultModelsDir() {
   if (const char* env = std::getenv("SEMVOX_MODELS"); env && *env) return env;
   return std::string(SEMVOX_SOURCE_DIR) + "/models";
@@ -93,9 +99,7 @@ Result<std::unique_ptr<SemanticStage>> SemanticStage::Create(const VoxelMap& map
     impl->model = std::move(m).value();
     impl->model_trained = true;
   } else {
-    std::vector<int> nyu40;
-    for (const std::string& name : impl->level.class_names) nyu40.push_back(name == "other" ? nyu40::kOtherProp : Nyu40IdByName(name));
-    impl->model = VoxelCrfModel::Default(std::move(nyu40), impl->level.class_names);
+    impl->model = VoxelCrfModel::Default(Nyu40OfClasses(impl->level), impl->level.class_names);
     SEMVOX_WARN(model_path << ": not found; the Voxel-CRF uses untrained default weights (run `semvox train`)");
   }
   if (impl->model.num_classes() != impl->level.num_classes())
@@ -135,9 +139,7 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
     for (int k = 0; k < per_position; ++k) poses.push_back({Eigen::Vector3d(p.x(), p.y(), z), k * s.options.classify_yaw_step_deg});
   const RenderOptions render{s.map->grid.resolution(), 100.0};
   const int K = s.level.num_classes();
-  std::vector<bool> object_classes;
-  for (const std::string& name : s.level.class_names)
-    object_classes.push_back(name != "wall" && name != "floor" && name != "ceiling" && name != "window" && name != "door");
+  const std::vector<bool> object_classes = RoomObjectClasses(s.level.class_names);
   constexpr size_t kBatch = 4;
   struct Slot {
     RenderedView view;
@@ -193,7 +195,7 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
         p = std::move(r).value();
       } else {
         p = RoomTypeProbabilities(*s.room_knn, RoomViewDescriptor(slot.view, predicted, K),
-                                  ObjectPixelFraction(slot.view, predicted, object_classes), 0.02);
+                                  ObjectPixelFraction(slot.view, predicted, object_classes), kRoomMinObjectFraction);
       }
       for (size_t t = 0; t < 12 && t < p.size(); ++t) slot.room[t] = p[t];
       slot.use = true;
@@ -211,7 +213,7 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
       r.position = poses[b0 + k].p;
       r.yaw_rad = poses[b0 + k].yaw * M_PI / 180.0;
       r.hfov_rad = tv.horizontal_fov_deg * M_PI / 180.0;
-      r.max_range_m = 8.0;
+      r.max_range_m = kRoomViewRangeM;
       r.p = slot.room;
       s.rooms.push_back(r);
       ++s.classification_views;

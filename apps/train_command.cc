@@ -89,20 +89,6 @@ nlohmann::json Scores(const ConfusionMatrix& cm, const LabelLevel& level) {
   return j;
 }
 
-// A view whose pixels are less than this fraction furniture or props holds too little evidence of its
-// room type: its distribution goes to "other".
-constexpr double kMinObjectFraction = 0.02;
-// Room-type CRF: a view's cone on the floor plan ends this far from the camera, metres.
-constexpr double kRoomTypeViewRangeM = 8.0;
-
-// Second-level classes that say something about the room (not wall, floor, ceiling, window, door).
-std::vector<bool> ObjectClasses(const LabelLevel& level) {
-  std::vector<bool> out;
-  for (const std::string& name : level.class_names)
-    out.push_back(name != "wall" && name != "floor" && name != "ceiling" && name != "window" && name != "door");
-  return out;
-}
-
 }  // namespace
 
 Status RunTrain(const TrainArgs& args) {
@@ -170,7 +156,7 @@ Status RunTrain(const TrainArgs& args) {
                  {"min_hit_fraction", views.min_hit_fraction}, {"min_mean_depth_m", views.min_mean_depth_m}}},
       {"max_rows", args.max_rows},
       {"crf_holdout", args.crf_holdout},
-      {"room_min_object_fraction", kMinObjectFraction}};
+      {"room_min_object_fraction", kRoomMinObjectFraction}};
   report["train_seeds"] = args.train_seeds;
   report["crf_holdout_seeds"] = crf_seeds;
   report["val_seeds"] = args.val_seeds;
@@ -201,7 +187,7 @@ Status RunTrain(const TrainArgs& args) {
       Result<ViewClassification> room_c = classifiers[1].Classify(*sp, *obs);
       if (!room_c.ok()) return room_c.status();
       room_records.push_back(MakeRoomViewRecord(v, PixelLabels(room_c->superpixels, room_c->tree_labels),
-                                                room_level.num_classes(), ObjectClasses(room_level), kRoomTypeViewRangeM));
+                                                room_level.num_classes(), RoomObjectClasses(room_level.class_names), kRoomViewRangeM));
       add_room_row(v);
       return Status::Ok();
     }));
@@ -231,7 +217,7 @@ Status RunTrain(const TrainArgs& args) {
   report["room_type"]["train_views"] = room_labels.size();
   {  // Room-type CRF (issue 7): statistics from all training seeds (+ R2V fixtures), the rest from the CRF seeds.
     RoomTypeTrainingOptions rt;
-    rt.min_object_fraction = kMinObjectFraction;
+    rt.min_object_fraction = kRoomMinObjectFraction;
     rt.r2v_dir = DefaultR2vDirectory();
     std::vector<uint64_t> stat_seeds = train_seeds;
     stat_seeds.insert(stat_seeds.end(), crf_seeds.begin(), crf_seeds.end());
@@ -245,7 +231,7 @@ Status RunTrain(const TrainArgs& args) {
                                {"weights", rts.report}};
     SEMVOX_INFO("train: room-type CRF\n" << rts.report);
   }
-  const std::vector<bool> object_classes = ObjectClasses(room_level);
+  const std::vector<bool> object_classes = RoomObjectClasses(room_level.class_names);
   int room_correct = 0, room_views = 0, room_other = 0;
   // Validation: pixel-wise confusion per level and method.
   std::vector<std::array<ConfusionMatrix, 3>> cms;
@@ -272,7 +258,7 @@ Status RunTrain(const TrainArgs& args) {
           const Image<int32_t> predicted = PixelLabels(c->superpixels, c->tree_labels);
           const std::vector<double> p = RoomTypeProbabilities(
               *room_knn, RoomViewDescriptor(*v.view, predicted, room_level.num_classes()),
-              ObjectPixelFraction(*v.view, predicted, object_classes), kMinObjectFraction);
+              ObjectPixelFraction(*v.view, predicted, object_classes), kRoomMinObjectFraction);
           const int best = int(std::max_element(p.begin(), p.end()) - p.begin());
           room_correct += best == v.room_type - 1;
           room_other += best == kOtherRoomTypeIndex && v.room_type - 1 != kOtherRoomTypeIndex;

@@ -78,8 +78,7 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
     SEMVOX_INFO("voxel CRF training: seed " << seed << ": " << it.gt.size() << " nodes, " << occupied << " occupied in the ground truth");
   }
   // The model: NYU40 id per class ("other" -> its most frequent id in the training apartments).
-  std::vector<int> nyu40;
-  for (const std::string& name : level.class_names) nyu40.push_back(name == "other" ? nyu40::kOtherProp : Nyu40IdByName(name));
+  std::vector<int> nyu40 = Nyu40OfClasses(level);
   size_t best = 0;
   for (const auto& [id, count] : other_ids)
     if (count > best) best = count, nyu40[size_t(other_class)] = id;

@@ -68,4 +68,11 @@ std::vector<double> RoomTypeProbabilities(const KnnClassifier& knn, const std::v
   return knn.Probabilities(descriptor);
 }
 
+std::vector<bool> RoomObjectClasses(const std::vector<std::string>& class_names) {
+  std::vector<bool> out;
+  for (const std::string& name : class_names)
+    out.push_back(name != "wall" && name != "floor" && name != "ceiling" && name != "window" && name != "door");
+  return out;
+}
+
 }  // namespace semvox

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>  // core/image.h uses size_t without including it.
+#include <string>
 #include <vector>
 
 #include "core/image.h"
@@ -15,6 +16,13 @@ namespace semvox {
 
 inline constexpr int kNumRoomTypeClasses = 12;  // room_types.tsv ids 1..12.
 inline constexpr int kOtherRoomTypeIndex = 11;  // Id 12, "other".
+// A view whose pixels are less than this fraction furniture or props holds too little evidence of its
+// room type: its distribution goes to "other".
+inline constexpr double kRoomMinObjectFraction = 0.02;
+// A view's room-type evidence reaches this far from the camera on the floor plan, metres.
+inline constexpr double kRoomViewRangeM = 8.0;
+// Per class name: true for classes that say something about the room (not wall, floor, ceiling, window, door).
+std::vector<bool> RoomObjectClasses(const std::vector<std::string>& class_names);
 
 // num_classes class fractions over the pixels that hit a surface (classes < 0 ignored), then L, a, b mean
 // and std over those pixels, mean |gradient of L| (texture), mean and std of depth (metres), fraction of
