@@ -164,6 +164,7 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.evidence, ray_extension_m, 0, 10, "a ray's visible voxel may lie this far behind its observed hit, metres"));
     f.push_back(SEMVOX_INT_FIELD("semantic", semantic.crf, max_iterations, 1, 50, "Voxel-CRF iterations (Alg. 1) at most"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf, visibility_tolerance, 0, 1, "Alg. 1 stops once fewer than this fraction of rays change their visible voxel"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf, visibility_min_progress, 0, 1, "Alg. 1 also stops when an iteration moves more than (1 - this) times the rays the previous one moved"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf, plane_truncation, 0.001, 0.5, "Robust P^n truncation Q of plane cliques, fraction of the clique"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf, object_truncation, 0.001, 0.5, "Robust P^n truncation Q of object cliques, fraction of the clique"));
     f.push_back(SEMVOX_INT_FIELD("semantic", semantic.crf, min_object_voxels, 2, 1000000, "smallest object segment with a clique, voxels"));

@@ -340,7 +340,9 @@ nlohmann::ordered_json SemanticStage::Summary() const {
   for (const auto& it : s.result.iterations)
     its.push_back({{"energy_initial", it.energy_initial}, {"energy_final", it.energy_final}, {"energy_per_sweep", it.energy_per_sweep},
                    {"sweeps", it.sweeps}, {"edges", it.edges}, {"cliques", it.cliques}, {"changed_labels", it.changed_labels},
-                   {"changed_visibility", it.changed_visibility}, {"seconds", it.seconds}});
+                   {"changed_visibility", it.changed_visibility}, {"seconds", it.seconds},
+                   {"phase_seconds", {{"build", it.seconds_build}, {"energy", it.seconds_energy}, {"alpha_expansion", it.seconds_expansion},
+                                      {"max_flow", it.seconds_max_flow}, {"visibility", it.seconds_visibility}}}});
   j["iterations"] = its;
   j["occupied_voxels"] = s.semantic.occupied.size();
   j["completed_voxels"] = s.semantic.completed_count();
@@ -348,7 +350,9 @@ nlohmann::ordered_json SemanticStage::Summary() const {
   for (const auto& [label, count] : s.semantic.LabelCounts())
     hist[label > 0 && label < kNumNyu40 ? Nyu40Labels()[size_t(label)].name : std::to_string(label)] = count;
   j["labels"] = hist;
-  j["seconds"] = {{"depth_evidence", s.seconds_depth}, {"classify", s.seconds_classify}, {"crf", s.result.seconds}, {"solve_total", s.seconds_solve}};
+  j["seconds"] = {{"depth_evidence", s.seconds_depth}, {"classify", s.seconds_classify}, {"crf", s.result.seconds},
+                  {"crf_planes", s.result.seconds_planes}, {"crf_ray_starts", s.result.seconds_ray_starts},
+                  {"crf_confidence", s.result.seconds_confidence}, {"solve_total", s.seconds_solve}};
   j["files"] = {"voxels.ply", "map.ot", "semantic_topview.png", "semantic_topview_labels.png"};
   return j;
 }

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <limits>
+#include <type_traits>
 
 #include "core/voxel_key.h"
 
@@ -18,7 +19,8 @@ namespace semvox {
 
 // The traversal over a dense grid whose first cell has key `grid_origin_key` and whose size is
 // `dims`: visit(size_t index) receives the linear index (x fastest) of each cell, origin cell first, end
-// cell excluded, and stops at the grid's boundary. Cheap per step (the index is carried along). Returns
+// cell excluded, and stops at the grid's boundary. A visitor taking (size_t index, double t) also receives
+// the distance along the segment from `origin` at which the traversal enters the cell (0 for the origin's). Cheap per step (the index is carried along). Returns
 // false when the origin is outside the grid.
 //
 // kInside = true is the caller's promise that both end cells lie inside the grid with a margin of
@@ -40,7 +42,11 @@ bool TraverseGrid(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, dou
   if (cur[0] == ke[0] && cur[1] == ke[1] && cur[2] == ke[2]) return true;
   const int64_t stride[3] = {1, dims[0], int64_t(dims[0]) * dims[1]};
   size_t idx = size_t(cur[2] * stride[2] + cur[1] * stride[1] + cur[0]);
-  if (!visit(idx)) return true;
+  auto call = [&visit](size_t i, double t) {
+    if constexpr (std::is_invocable_v<Visit, size_t, double>) return visit(i, t);
+    else return visit(i);
+  };
+  if (!call(idx, 0.0)) return true;
   float direction[3] = {end[0] - origin[0], end[1] - origin[1], end[2] - origin[2]};
   const float norm_sq = direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2];
   const float length = float(std::sqrt(double(norm_sq)));
@@ -68,10 +74,11 @@ bool TraverseGrid(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, dou
       const int a01 = t_max[0] < t_max[1], a02 = t_max[0] < t_max[2], a12 = t_max[1] < t_max[2];
       const int d = 2 - 2 * (a01 & a02) - ((1 - a01) & a12);
       idx += step_idx[d];
+      const double t_cross = t_max[d];
       t_max[d] += t_delta[d];
       if (idx == end_idx) break;
       if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) break;
-      if (!visit(idx)) break;
+      if (!call(idx, t_cross)) break;
     }
     return true;
   }
@@ -83,10 +90,11 @@ bool TraverseGrid(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, dou
     cur[d] += step[d];
     if (cur[d] < 0 || cur[d] >= dims[d]) break;
     idx += step_idx[d];
+    const double t_cross = t_max[d];
     t_max[d] += t_delta[d];
     if (cur[0] == ke[0] && cur[1] == ke[1] && cur[2] == ke[2]) break;
     if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) break;
-    if (!visit(idx)) break;
+    if (!call(idx, t_cross)) break;
   }
   return true;
 }

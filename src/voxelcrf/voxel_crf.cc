@@ -146,6 +146,8 @@ bool VoxelCrfOptions::Check(std::string* error) const {
   if (max_iterations < 1 || max_iterations > 50) return fail("max_iterations = " + std::to_string(max_iterations) + ". Violated constraint: 1 <= max_iterations <= 50");
   if (!(plane_truncation > 0 && plane_truncation <= 0.5)) return fail("plane_truncation = " + std::to_string(plane_truncation) + ". Violated constraint: 0 < plane_truncation <= 0.5");
   if (!(object_truncation > 0 && object_truncation <= 0.5)) return fail("object_truncation = " + std::to_string(object_truncation) + ". Violated constraint: 0 < object_truncation <= 0.5");
+  if (!(visibility_min_progress >= 0 && visibility_min_progress <= 1))
+    return fail("visibility_min_progress = " + std::to_string(visibility_min_progress) + ". Violated constraint: 0 <= visibility_min_progress <= 1");
   if (!(visibility_tolerance >= 0 && visibility_tolerance <= 1))
     return fail("visibility_tolerance = " + std::to_string(visibility_tolerance) + ". Violated constraint: 0 <= visibility_tolerance <= 1");
   if (min_object_voxels < 2) return fail("min_object_voxels = " + std::to_string(min_object_voxels) + ". Violated constraint: >= 2");
@@ -156,7 +158,7 @@ bool VoxelCrfOptions::Check(std::string* error) const {
 // Visibility (Eq. 9).
 
 std::vector<int32_t> ComputeVisibility(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev,
-                                       const std::vector<int>& labels) {
+                                       const std::vector<int>& labels, const std::vector<float>* starts) {
   std::vector<int32_t> out(ev.rays.size(), -1);
   const int okey[3] = {grid.origin_key()[0], grid.origin_key()[1], grid.origin_key()[2]};
   const int dims[3] = {grid.dims()[0], grid.dims()[1], grid.dims()[2]};
@@ -165,8 +167,14 @@ std::vector<int32_t> ComputeVisibility(const VoxelGrid& grid, const VoxelCrfNode
       const EvidenceRay& ray = ev.rays[k];
       const Eigen::Vector3f& o = ev.origins[size_t(ray.origin)];
       const Eigen::Vector3f end = o + ray.direction * ray.max_t;
+      Eigen::Vector3f from = o;
+      if (starts) {
+        const float t = (*starts)[k];
+        if (t < 0) continue;  // Blocked (or out of the grid) before any node: -1 for every labelling.
+        from = o + ray.direction * t;
+      }
       int32_t found = -1;
-      TraverseGrid<false>(o, end, grid.resolution(), okey, dims, [&](size_t idx) {
+      TraverseGrid<false>(from, end, grid.resolution(), okey, dims, [&](size_t idx) {
         const int32_t node = nodes.node_of_voxel[idx];
         if (node >= 0) {
           if (labels[size_t(node)] != 0) {
@@ -178,6 +186,32 @@ std::vector<int32_t> ComputeVisibility(const VoxelGrid& grid, const VoxelCrfNode
         return grid.state(idx) != VoxelState::kOccupied;  // An occupied voxel outside the CRF blocks the ray.
       });
       out[k] = found;
+    }
+  });
+  return out;
+}
+
+std::vector<float> ComputeRayStarts(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev) {
+  std::vector<float> out(ev.rays.size(), -1.f);
+  const int okey[3] = {grid.origin_key()[0], grid.origin_key()[1], grid.origin_key()[2]};
+  const int dims[3] = {grid.dims()[0], grid.dims()[1], grid.dims()[2]};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, ev.rays.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      const EvidenceRay& ray = ev.rays[k];
+      const Eigen::Vector3f& o = ev.origins[size_t(ray.origin)];
+      const Eigen::Vector3f end = o + ray.direction * ray.max_t;
+      double previous = -1;  // Entry distance of the cell before the current one.
+      float start = -1.f;
+      TraverseGrid<false>(o, end, grid.resolution(), okey, dims, [&](size_t idx, double t) {
+        if (nodes.node_of_voxel[idx] >= 0) {
+          start = previous < 0 ? 0.f : float(0.5 * (previous + t));
+          return false;
+        }
+        if (grid.state(idx) == VoxelState::kOccupied) return false;
+        previous = t;
+        return true;
+      });
+      out[k] = start;
     }
   });
   return out;
@@ -431,18 +465,27 @@ Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const Vo
   const auto t_all = Clock::now();
   *result = VoxelCrfResult{};
   const int n = int(nodes.size());
+  auto t_phase = Clock::now();
   const std::vector<DetectedPlane> planes = DetectPlanes(grid, nodes, ev, options.planes);
   result->num_planes = int(planes.size());
+  result->seconds_planes = Seconds(t_phase);
   // V_0: the first voxel the map holds occupied along each ray.
   std::vector<int> labels(size_t(n), 0);
   for (int i = 0; i < n; ++i) labels[size_t(i)] = nodes.initial_state[size_t(i)] == uint8_t(VoxelState::kOccupied) ? 1 : 0;
-  std::vector<int32_t> vis = ComputeVisibility(grid, nodes, ev, labels);
+  t_phase = Clock::now();
+  const std::vector<float> starts = ComputeRayStarts(grid, nodes, ev);
+  std::vector<int32_t> vis = ComputeVisibility(grid, nodes, ev, labels, &starts);
+  result->seconds_ray_starts = Seconds(t_phase);
   std::vector<int> previous;
   VoxelCrfProblem problem;
   for (int it = 0; it < options.max_iterations; ++it) {
     const auto t0 = Clock::now();
+    VoxelCrfIteration rec;
     problem = BuildVoxelCrfProblem(grid, nodes, ev, floor_z, ceiling_z, model, planes, options, vis);
+    rec.seconds_build = Seconds(t0);
+    t_phase = Clock::now();
     const CrfEnergy energy = problem.Energy(model.w);
+    rec.seconds_energy = Seconds(t_phase);
     AlphaExpansionOptions solver = options.solver;
     std::vector<CrfLabel> crf_labels;
     if (it > 0) {
@@ -450,9 +493,11 @@ Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const Vo
       crf_labels.assign(labels.begin(), labels.end());
     }
     CrfSolverSummary summary;
+    t_phase = Clock::now();
     SEMVOX_RETURN_IF_ERROR(MinimizeWithAlphaExpansion(energy, solver, &crf_labels, &summary));
+    rec.seconds_expansion = Seconds(t_phase);
+    rec.seconds_max_flow = summary.max_flow_seconds;
     labels.assign(crf_labels.begin(), crf_labels.end());
-    VoxelCrfIteration rec;
     rec.energy_initial = summary.initial_energy;
     rec.energy_final = summary.final_energy;
     rec.energy_per_sweep = summary.energy_per_sweep;
@@ -465,7 +510,9 @@ Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const Vo
       rec.changed_labels = n;
     previous = labels;
     // Step 4: visibility from the new labels.
-    std::vector<int32_t> next = ComputeVisibility(grid, nodes, ev, labels);
+    t_phase = Clock::now();
+    std::vector<int32_t> next = ComputeVisibility(grid, nodes, ev, labels, &starts);
+    rec.seconds_visibility = Seconds(t_phase);
     for (size_t r = 0; r < next.size(); ++r) rec.changed_visibility += next[r] != vis[r];
     vis = std::move(next);
     for (int32_t v : vis) rec.visible_nodes += v >= 0;
@@ -474,10 +521,17 @@ Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const Vo
                                        << rec.sweeps << " sweeps, " << rec.edges << " edges, " << rec.cliques << " cliques, "
                                        << rec.changed_visibility << " rays changed their visible voxel (" << rec.seconds << " s)");
     result->iterations.push_back(std::move(rec));
-    if (double(result->iterations.back().changed_visibility) <= options.visibility_tolerance * double(std::max<size_t>(1, vis.size()))) break;
+    const double moved = double(result->iterations.back().changed_visibility);
+    if (moved <= options.visibility_tolerance * double(std::max<size_t>(1, vis.size()))) break;
+    if (it > 0 && moved > (1.0 - options.visibility_min_progress) * double(result->iterations[size_t(it) - 1].changed_visibility)) {
+      SEMVOX_INFO("voxel CRF: visibility no longer settling (" << moved << " rays moved after "
+                  << result->iterations[size_t(it) - 1].changed_visibility << "), stopping after iteration " << it + 1);
+      break;
+    }
   }
   for (const auto& c : problem.cliques) result->num_object_cliques += c.type == kWObject;
   // Confidence: p(l_i | neighbours) from the unary and pairwise terms of the final energy.
+  t_phase = Clock::now();
   const CrfEnergy energy = problem.Energy(model.w);
   const NodeIncidence inc = energy.EdgeIncidence();
   const int L = energy.num_labels();
@@ -497,6 +551,7 @@ Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const Vo
       result->confidence[size_t(i)] = float(std::exp(-(e[size_t(labels[size_t(i)])] - m)) / z);
     }
   });
+  result->seconds_confidence = Seconds(t_phase);
   result->visible.assign(size_t(n), 0);
   for (int32_t v : vis)
     if (v >= 0) result->visible[size_t(v)] = 1;

@@ -101,6 +101,8 @@ struct VoxelCrfModel {
 struct VoxelCrfOptions {
   int max_iterations = 5;            // Alg. 1 iterations at most. [1, 50].
   double visibility_tolerance = 0.005;  // Stop once fewer than this fraction of rays change their visible voxel. [0, 1].
+  double visibility_min_progress = 0.25;  // Stop too when an iteration moves more than (1 - this) times the rays the
+                                          // previous one moved (the visibility oscillates instead of settling). [0, 1].
   bool use_pairwise = true;          // U+PW (false: U only).
   bool use_higher_order = true;      // U+PW+G (planes and objects).
   double plane_truncation = 0.25;    // Q / clique size for planes. (0, 0.5].
@@ -138,8 +140,16 @@ struct VoxelCrfProblem {
 };
 
 // Visibility (Eq. 9): per ray, the node of the first voxel along it whose label is occupied (or -1).
+// With `starts` (ComputeRayStarts), each walk begins where its ray first meets a CRF node: the cells before
+// that are outside the CRF, so their state never changes (same result, a fraction of the steps).
 std::vector<int32_t> ComputeVisibility(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev,
-                                       const std::vector<int>& labels);
+                                       const std::vector<int>& labels, const std::vector<float>* starts = nullptr);
+
+// Per ray, the distance along it from its origin at which its visibility walk may start: the middle of the
+// last cell before the first CRF node it meets (0 when its origin cell is a node), or -1 when the ray meets
+// an occupied voxel outside the CRF, or leaves the grid, before any node: its visible node is -1 whatever
+// the labels.
+std::vector<float> ComputeRayStarts(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev);
 
 // Builds the problem for the visibility `visible_node_of_ray`.
 VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev,
@@ -156,6 +166,9 @@ struct VoxelCrfIteration {
   int64_t changed_visibility = 0;  // Rays whose visible node changed after this iteration.
   size_t edges = 0, cliques = 0;
   double seconds = 0;
+  // Where the iteration's time went: problem construction (appearance, edges, cliques), energy tables,
+  // alpha-expansion (of which max-flow), visibility walk.
+  double seconds_build = 0, seconds_energy = 0, seconds_expansion = 0, seconds_max_flow = 0, seconds_visibility = 0;
 };
 
 struct VoxelCrfResult {
@@ -166,6 +179,8 @@ struct VoxelCrfResult {
   std::vector<VoxelCrfIteration> iterations;
   int num_planes = 0, num_object_cliques = 0;
   double seconds = 0;
+  // Plane detection, ray starts with V_0, confidence (once each).
+  double seconds_planes = 0, seconds_ray_starts = 0, seconds_confidence = 0;
 };
 
 Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev, double floor_z,

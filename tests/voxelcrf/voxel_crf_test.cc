@@ -177,14 +177,22 @@ TEST(VoxelCrfVisibility, FirstOccupiedVoxelAlongEachRayIsExact) {
   };
   std::vector<int> labels(nodes.size(), 0);
   for (size_t i = 0; i < nodes.size(); ++i) labels[i] = nodes.initial_state[i] == uint8_t(VoxelState::kOccupied);
-  std::vector<int32_t> vis = ComputeVisibility(g, nodes, ev, labels);
+  // Every walk twice: from the ray's origin and from its start (ComputeRayStarts), the same nodes.
+  const std::vector<float> starts = ComputeRayStarts(g, nodes, ev);
+  for (float t : starts) EXPECT_GT(t, 0.f);  // The origin is in free space outside the CRF.
+  auto visibility = [&]() {
+    std::vector<int32_t> v = ComputeVisibility(g, nodes, ev, labels);
+    EXPECT_EQ(ComputeVisibility(g, nodes, ev, labels, &starts), v);
+    return v;
+  };
+  std::vector<int32_t> vis = visibility();
   for (size_t k = 0; k < targets.size(); ++k) expect_node_at(vis[k], targets[k]);  // The panel.
   // Label the panel empty: each ray now sees the east wall where the ray meets x = 4.0 ...
   for (size_t i = 0; i < nodes.size(); ++i) {
     const auto c = g.Cell(nodes.voxel[i]);
     if (std::abs(g.CellCenter(c[0], c[1], c[2]).x() - 2.025) < 1e-6) labels[i] = 0;
   }
-  vis = ComputeVisibility(g, nodes, ev, labels);
+  vis = visibility();
   for (size_t k = 0; k < targets.size(); ++k) {
     const Eigen::Vector3f d = ev.rays[k].direction;
     const float t = (4.0f - ev.origins[0].x()) / d.x();
@@ -192,7 +200,7 @@ TEST(VoxelCrfVisibility, FirstOccupiedVoxelAlongEachRayIsExact) {
   }
   // ... and with everything empty no ray sees anything.
   std::fill(labels.begin(), labels.end(), 0);
-  vis = ComputeVisibility(g, nodes, ev, labels);
+  vis = visibility();
   for (int32_t v : vis) EXPECT_EQ(v, -1);
 }
 
