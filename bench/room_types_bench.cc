@@ -29,12 +29,14 @@
 //         evaluated with a room-type k-NN whose rows are those of the training apartments (--train-seeds,
 //         ground-truth classes, as `semvox train`) and the other validation apartments, never h's. The
 //         object and homogeneity statistics stay the committed model's (40 training apartments + R2V); the
-//         per-view classifier (second level) stays the committed one. Training scenes use their
+//         per-view classifier (second level) stays the committed one. The SSVM runs --ssvm-epochs epochs
+//         (default 30, as `semvox train`; fewer keep ten folds short). Training scenes use their
 //         ground-truth top views (as `semvox train`). With --fold-models DIR, each fold's learned model is
 //         saved as DIR/fold_<h>.json, and loaded instead of learned when it exists (a second run with
 //         --pred-topview then costs only the classification and the inference; delete DIR after changing
 //         the data or the code).
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -138,11 +140,26 @@ std::optional<ImageU16> PredictedTopView(const std::string& outdir, const FloorP
       if (dc == 0 && dr == 0) at0 = a, lab0 = lab;
       if (a > best + 1e-12) best = a, best_dc = dc, best_dr = dr;
     }
-  char buf[256];
-  std::snprintf(buf, sizeof(buf), "occupied/empty agreement %.3f (best shift %+d,%+d px: %.3f), labels equal on %.3f of labelled cells, res %.3f",
+  // What the object term sees: per object group (Eq. 4), cells in the ground truth, cells predicted, and the
+  // fraction of the predicted ones whose ground-truth cell is of the same group.
+  const ImageU16 out = sample(0, 0);
+  std::array<size_t, kNumObjectGroups> n_gt{}, n_pred{}, n_both{};
+  for (size_t i = 0; i < out.data.size(); ++i) {
+    const int g = ObjectGroupOf(gt_topview.data[i]), p = ObjectGroupOf(out.data[i]);
+    if (g >= 0) ++n_gt[size_t(g)];
+    if (p >= 0) ++n_pred[size_t(p)], n_both[size_t(p)] += g == p;
+  }
+  char buf[512];
+  std::snprintf(buf, sizeof(buf), "occupied/empty agreement %.3f (best shift %+d,%+d px: %.3f), labels equal on %.3f of labelled cells, res %.3f; "
+                "object groups gt/pred cells (pred in gt group):",
                 at0, best_dc, best_dr, best, lab0, occ->resolution);
   *note = buf;
-  return sample(0, 0);
+  for (int g = 0; g < kNumObjectGroups; ++g) {
+    std::snprintf(buf, sizeof(buf), " g%d %zu/%zu (%.2f)", g + 1, n_gt[size_t(g)], n_pred[size_t(g)],
+                  n_pred[size_t(g)] ? double(n_both[size_t(g)]) / double(n_pred[size_t(g)]) : 0.0);
+    *note += buf;
+  }
+  return out;
 }
 
 }  // namespace
