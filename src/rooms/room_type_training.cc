@@ -248,30 +248,108 @@ std::vector<bool> ObjectClassesOf(const LabelLevel& level) {
   return out;
 }
 
-void SetEvidence(const KnnClassifier& knn, const RoomViewRecord& r, double min_object_fraction, ViewRoomEvidence* e) {
-  *e = r.geometry;
+}  // namespace
+
+ViewRoomEvidence RoomViewEvidence(const KnnClassifier& knn, const RoomViewRecord& r, double min_object_fraction) {
+  ViewRoomEvidence e = r.geometry;
   const std::vector<double> p = RoomTypeProbabilities(knn, r.descriptor, r.object_fraction, min_object_fraction);
-  for (int y = 0; y < kRoomTypeLabels && y < int(p.size()); ++y) e->p[size_t(y)] = p[size_t(y)];
+  for (int y = 0; y < kRoomTypeLabels && y < int(p.size()); ++y) e.p[size_t(y)] = p[size_t(y)];
+  return e;
 }
 
-}  // namespace
+Result<KnnClassifier> RoomKnnWithout(const std::vector<float>& room_rows, const std::vector<int>& room_labels,
+                                     const std::vector<uint64_t>& room_row_seeds, int descriptor_dims,
+                                     const std::vector<uint64_t>& exclude_seeds) {
+  if (room_labels.size() != room_row_seeds.size() || room_rows.size() != room_labels.size() * size_t(descriptor_dims))
+    return Status::InvalidInput("room-type k-NN: room rows, labels and seeds differ in count");
+  std::vector<float> rows;
+  std::vector<int> labels;
+  for (size_t i = 0; i < room_labels.size(); ++i) {
+    if (std::find(exclude_seeds.begin(), exclude_seeds.end(), room_row_seeds[i]) != exclude_seeds.end()) continue;
+    rows.insert(rows.end(), room_rows.begin() + long(i * size_t(descriptor_dims)), room_rows.begin() + long((i + 1) * size_t(descriptor_dims)));
+    labels.push_back(room_labels[i]);
+  }
+  return KnnClassifier::Train(rows, descriptor_dims, labels, kRoomTypeLabels, KnnOptions{});
+}
+
+Status ClassifiedApartmentRecords(uint64_t seed, const TrainingViewsOptions& views, const ViewClassifier& second_level,
+                                  double max_range_m, std::vector<RoomViewRecord>* records, std::vector<float>* truth_rows,
+                                  std::vector<int>* truth_labels) {
+  const LabelLevel level = SecondLevel();
+  const std::vector<bool> object_classes = ObjectClassesOf(level);
+  return ForEachApartmentView(seed, views, [&](const LabelledView& v) {
+    if (records) {
+      Result<ViewClassification> c = second_level.Classify(*v.view);
+      if (!c.ok()) return c.status();
+      const Image<int32_t> predicted = PixelLabels(c->superpixels, c->tree_labels);
+      records->push_back(MakeRoomViewRecord(v, predicted, level.num_classes(), object_classes, max_range_m));
+    }
+    if (truth_rows && truth_labels && v.room_type >= 1 && v.room_type <= kRoomTypeLabels) {
+      const std::vector<float> d = RoomViewDescriptor(*v.view, level.Map(*v.nyu40), level.num_classes());
+      truth_rows->insert(truth_rows->end(), d.begin(), d.end());
+      truth_labels->push_back(v.room_type - 1);
+    }
+    return Status::Ok();
+  });
+}
 
 Result<std::vector<ViewRoomEvidence>> ClassifiedApartmentViews(uint64_t seed, const TrainingViewsOptions& views,
                                                                const ViewClassifier& second_level,
                                                                const KnnClassifier& room_knn, double max_range_m) {
-  const LabelLevel level = SecondLevel();
-  const std::vector<bool> object_classes = ObjectClassesOf(level);
+  std::vector<RoomViewRecord> records;
+  SEMVOX_RETURN_IF_ERROR(ClassifiedApartmentRecords(seed, views, second_level, max_range_m, &records, nullptr, nullptr));
   std::vector<ViewRoomEvidence> out;
-  SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, views, [&](const LabelledView& v) {
-    Result<ViewClassification> c = second_level.Classify(*v.view);
-    if (!c.ok()) return c.status();
-    const Image<int32_t> predicted = PixelLabels(c->superpixels, c->tree_labels);
-    const RoomViewRecord r = MakeRoomViewRecord(v, predicted, level.num_classes(), object_classes, max_range_m);
-    out.emplace_back();
-    SetEvidence(room_knn, r, 0.02, &out.back());
-    return Status::Ok();
-  }));
+  for (const RoomViewRecord& r : records) out.push_back(RoomViewEvidence(room_knn, r, 0.02));
   return out;
+}
+
+Result<std::vector<RoomTypeTrainingScene>> LeaveOneOutEvidenceScenes(const std::vector<RoomViewRecord>& records,
+                                                                     const std::vector<float>& room_rows,
+                                                                     const std::vector<int>& room_labels,
+                                                                     const std::vector<uint64_t>& room_row_seeds,
+                                                                     int descriptor_dims, double min_object_fraction,
+                                                                     const std::map<uint64_t, RoomTypeTrainingScene>* prepared) {
+  std::vector<uint64_t> evidence_seeds;
+  for (const RoomViewRecord& r : records)
+    if (std::find(evidence_seeds.begin(), evidence_seeds.end(), r.seed) == evidence_seeds.end()) evidence_seeds.push_back(r.seed);
+  std::vector<RoomTypeTrainingScene> scenes;
+  for (uint64_t seed : evidence_seeds) {
+    Result<KnnClassifier> knn = RoomKnnWithout(room_rows, room_labels, room_row_seeds, descriptor_dims, {seed});
+    if (!knn.ok()) return knn.status();
+    RoomTypeTrainingScene s;
+    if (prepared && prepared->count(seed)) {
+      s = prepared->at(seed);
+      s.views.clear();
+    } else {
+      Result<RoomTypeTrainingScene> made = RoomTypeSceneFromApartment(seed);
+      if (!made.ok()) return made.status();
+      s = std::move(made).value();
+    }
+    for (const RoomViewRecord& r : records)
+      if (r.seed == seed) s.views.push_back(RoomViewEvidence(*knn, r, min_object_fraction));
+    scenes.push_back(std::move(s));
+  }
+  return scenes;
+}
+
+std::string LearnRoomTypeEvidenceTerms(const std::vector<RoomTypeTrainingScene>& scenes, const std::vector<RoomTypeVariant>& variants,
+                                       const RoomTypeTrainingOptions& options, RoomTypeModel* model) {
+  LearnConfusion(scenes, model);
+  std::ostringstream rep;
+  for (const RoomTypeVariant& v : variants) {
+    const RoomTypeWeights direction = LearnWeightsSsvm(scenes, *model, v, options.crf, options.ssvm);
+    RoomTypeCrfOptions calib = options.crf;  // Shorter chains for the scale search.
+    calib.burn_in_sweeps = 10, calib.sample_sweeps = 30;
+    double scale = 1;
+    const RoomTypeWeights w = CalibrateWeightScale(scenes, *model, v, direction, calib, {1, 3, 10, 30, 100}, &scale);
+    model->SetWeights(v, w);
+    rep << v.Name() << " (SSVM direction x " << scale << "): w_c " << w.scene << " w_obj " << w.objects[0] << " " << w.objects[1] << " " << w.objects[2] << " "
+        << w.objects[3] << " w_hom " << w.homogeneity << "\n";
+  }
+  model->dense = LearnDenseCrfParams(scenes, *model, options.crf);
+  rep << "dense CRF: w1 " << model->dense.w_appearance << " theta_alpha " << model->dense.theta_alpha_m << " w2 "
+      << model->dense.w_smooth << " theta_gamma " << model->dense.theta_gamma_m << "\n";
+  return rep.str();
 }
 
 Result<RoomTypeModel> TrainRoomTypeModel(const std::vector<RoomViewRecord>& records, const std::vector<float>& room_rows,
@@ -306,51 +384,16 @@ Result<RoomTypeModel> TrainRoomTypeModel(const std::vector<RoomViewRecord>& reco
   model.object_type = CombinedObjectStatistics(gen, have_r2v ? &r2v : nullptr);
   LearnHomogeneityStatistics(truth_scenes, options.crf, &model);
   // Evidence apartments: per-view distributions from a k-NN without the apartment's own rows.
-  std::vector<uint64_t> evidence_seeds;
-  for (const RoomViewRecord& r : records)
-    if (std::find(evidence_seeds.begin(), evidence_seeds.end(), r.seed) == evidence_seeds.end()) evidence_seeds.push_back(r.seed);
-  std::vector<RoomTypeTrainingScene> scenes;
-  for (uint64_t seed : evidence_seeds) {
-    std::vector<float> rows;
-    std::vector<int> labels;
-    for (size_t i = 0; i < room_labels.size(); ++i) {
-      if (room_row_seeds[i] == seed) continue;
-      rows.insert(rows.end(), room_rows.begin() + long(i * size_t(descriptor_dims)), room_rows.begin() + long((i + 1) * size_t(descriptor_dims)));
-      labels.push_back(room_labels[i]);
-    }
-    Result<KnnClassifier> knn = KnnClassifier::Train(rows, descriptor_dims, labels, kRoomTypeLabels, KnnOptions{});
-    if (!knn.ok()) return knn.status();
-    Result<RoomTypeTrainingScene> s = RoomTypeSceneFromApartment(seed);
-    if (!s.ok()) return s.status();
-    for (const RoomViewRecord& r : records) {
-      if (r.seed != seed) continue;
-      s->views.emplace_back();
-      SetEvidence(*knn, r, options.min_object_fraction, &s->views.back());
-    }
-    scenes.push_back(std::move(s).value());
-  }
-  sum.evidence_scenes = int(scenes.size());
-  LearnConfusion(scenes, &model);
-  std::ostringstream rep;
-  for (const RoomTypeVariant& v : AllRoomTypeVariants()) {
-    const RoomTypeWeights direction = LearnWeightsSsvm(scenes, model, v, options.crf, options.ssvm);
-    RoomTypeCrfOptions calib = options.crf;  // Shorter chains for the scale search.
-    calib.burn_in_sweeps = 10, calib.sample_sweeps = 30;
-    double scale = 1;
-    const RoomTypeWeights w = CalibrateWeightScale(scenes, model, v, direction, calib, {1, 3, 10, 30, 100}, &scale);
-    model.SetWeights(v, w);
-    rep << v.Name() << " (SSVM direction x " << scale << "): w_c " << w.scene << " w_obj " << w.objects[0] << " " << w.objects[1] << " " << w.objects[2] << " "
-        << w.objects[3] << " w_hom " << w.homogeneity << "\n";
-  }
-  model.dense = LearnDenseCrfParams(scenes, model, options.crf);
-  rep << "dense CRF: w1 " << model.dense.w_appearance << " theta_alpha " << model.dense.theta_alpha_m << " w2 "
-      << model.dense.w_smooth << " theta_gamma " << model.dense.theta_gamma_m << "\n";
+  Result<std::vector<RoomTypeTrainingScene>> scenes =
+      LeaveOneOutEvidenceScenes(records, room_rows, room_labels, room_row_seeds, descriptor_dims, options.min_object_fraction, nullptr);
+  if (!scenes.ok()) return scenes.status();
+  sum.evidence_scenes = int(scenes->size());
+  sum.report = LearnRoomTypeEvidenceTerms(*scenes, AllRoomTypeVariants(), options, &model);
   std::ostringstream prov;
   prov << "semvox train: object and homogeneity statistics from " << statistics_seeds.size() << " generated apartments"
        << (have_r2v ? " + " + std::to_string(sum.r2v_plans) + " R2V plans (fixtures)" : std::string()) << "; confusion, SSVM weights and "
-       << "dense-CRF parameters from " << scenes.size() << " apartments' classified views (leave-one-apartment-out room k-NN)";
+       << "dense-CRF parameters from " << scenes->size() << " apartments' classified views (leave-one-apartment-out room k-NN)";
   model.provenance = prov.str();
-  sum.report = rep.str();
   return model;
 }
 

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,22 @@ Result<std::vector<ViewRoomEvidence>> ClassifiedApartmentViews(uint64_t seed, co
                                                                const ViewClassifier& second_level,
                                                                const KnnClassifier& room_knn, double max_range_m);
 
+// The per-view evidence of a record: its geometry and the room-type k-NN's distribution of its descriptor
+// (RoomTypeProbabilities, with `min_object_fraction`).
+ViewRoomEvidence RoomViewEvidence(const KnnClassifier& knn, const RoomViewRecord& record, double min_object_fraction);
+
+// A room-type k-NN (KnnOptions{}) over the rows whose apartment is not one of `exclude_seeds`.
+Result<KnnClassifier> RoomKnnWithout(const std::vector<float>& room_rows, const std::vector<int>& room_labels,
+                                     const std::vector<uint64_t>& room_row_seeds, int descriptor_dims,
+                                     const std::vector<uint64_t>& exclude_seeds);
+
+// Every training view of apartment `seed`: with `records`, the record of its predicted second-level classes
+// (as ClassifiedApartmentViews); with `truth_rows` and `truth_labels`, the room-type k-NN row of its
+// ground-truth classes and its type index (views of a typed room only; as `semvox train`'s k-NN rows).
+Status ClassifiedApartmentRecords(uint64_t seed, const TrainingViewsOptions& views, const ViewClassifier& second_level,
+                                  double max_range_m, std::vector<RoomViewRecord>* records, std::vector<float>* truth_rows,
+                                  std::vector<int>* truth_labels);
+
 struct RoomTypeTrainingOptions {
   RoomTypeCrfOptions crf;              // Graph options for training.
   SsvmOptions ssvm;
@@ -87,6 +104,22 @@ Result<RoomTypeModel> TrainRoomTypeModel(const std::vector<RoomViewRecord>& reco
                                          const std::vector<int>& room_labels, const std::vector<uint64_t>& room_row_seeds,
                                          int descriptor_dims, const std::vector<uint64_t>& statistics_seeds,
                                          const RoomTypeTrainingOptions& options, RoomTypeTrainingSummary* summary);
+
+// One scene per apartment of `records` (first-seen order) with its views' evidence from a k-NN over `room_rows`
+// without that apartment's rows. Scenes come from `prepared` when it holds the seed (views replaced), else
+// from RoomTypeSceneFromApartment.
+Result<std::vector<RoomTypeTrainingScene>> LeaveOneOutEvidenceScenes(const std::vector<RoomViewRecord>& records,
+                                                                     const std::vector<float>& room_rows,
+                                                                     const std::vector<int>& room_labels,
+                                                                     const std::vector<uint64_t>& room_row_seeds,
+                                                                     int descriptor_dims, double min_object_fraction,
+                                                                     const std::map<uint64_t, RoomTypeTrainingScene>* prepared);
+
+// What TrainRoomTypeModel learns from labelled views, on `scenes` with their views set; the statistics already
+// in `model` (objects, homogeneity) are kept: the confusion (Eq. 3), the SSVM weights of `variants` with their
+// scale calibration, and the dense-CRF grid search. Returns one report line per learned piece.
+std::string LearnRoomTypeEvidenceTerms(const std::vector<RoomTypeTrainingScene>& scenes, const std::vector<RoomTypeVariant>& variants,
+                                       const RoomTypeTrainingOptions& options, RoomTypeModel* model);
 
 // The variants `semvox train` learns weights for (Table II rows and their phi_cnn counterparts).
 std::vector<RoomTypeVariant> AllRoomTypeVariants();
