@@ -41,9 +41,8 @@ inline double ExpansionEnergyChange(const CrfEnergy& energy, const NodeIncidence
                                     const std::vector<int>& changed_nodes,
                                     const std::vector<uint8_t>& changed, CrfLabel alpha,
                                     std::vector<int>* clique_stamp, int stamp,
-                                    std::vector<double>* old_weight, std::vector<double>* new_weight,
-                                    double* pairwise_change = nullptr) {
-  double delta = 0, pairwise = 0;
+                                    std::vector<double>* old_weight, std::vector<double>* new_weight) {
+  double delta = 0;
   const auto& edges = energy.edges();
   const float* plane = energy.unary_plane(alpha).data();
   for (int i : changed_nodes) {
@@ -54,7 +53,7 @@ inline double ExpansionEnergyChange(const CrfEnergy& energy, const NodeIncidence
       if (changed[other] && other < i) continue;  // Counted from the other end.
       const CrfLabel ni = changed[edge.i] ? alpha : labels[edge.i];
       const CrfLabel nj = changed[edge.j] ? alpha : labels[edge.j];
-      pairwise += static_cast<double>(energy.EdgeCost(edge, ni, nj)) - energy.EdgeCost(edge, labels[edge.i], labels[edge.j]);
+      delta += static_cast<double>(energy.EdgeCost(edge, ni, nj)) - energy.EdgeCost(edge, labels[edge.i], labels[edge.j]);
     }
     for (int c : clique_incidence.Of(i)) {
       if ((*clique_stamp)[c] == stamp) continue;
@@ -71,8 +70,7 @@ inline double ExpansionEnergyChange(const CrfEnergy& energy, const NodeIncidence
       std::fill(new_weight->begin(), new_weight->end(), 0.0);
     }
   }
-  if (pairwise_change) *pairwise_change = pairwise;
-  return delta + pairwise;
+  return delta;
 }
 
 template <typename Graph>
@@ -159,16 +157,6 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
 
   double current = energy.Evaluate(labels);
   summary->initial_energy = current;
-  // Pruning: the pairwise terms are built only over the edges of the nodes the cut decides (free) or that
-  // switch; every other edge keeps its current cost, which enters the move's constant through the running
-  // pairwise total. `live_pairwise`: the pairwise graph edges given a capacity in the last cut.
-  auto pairwise_total = [&]() {
-    double sum = 0;
-    for (const CrfEnergy::Edge& e : edges) sum += energy.EdgeCost(e, labels[e.i], labels[e.j]);
-    return sum;
-  };
-  double pairwise_current = options.prune_decided_nodes ? pairwise_total() : 0.0;
-  std::vector<int> active_nodes, live_pairwise;
   // U_i(x_i) per node and its sum, kept up to date (contiguous, unlike the label-major unaries).
   std::vector<float> current_unary(N);
   double current_unary_sum = 0;
@@ -197,7 +185,6 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       int64_t truncated = 0;
       int64_t pruned = 0;
       const bool prune = options.prune_decided_nodes;
-      active_nodes.clear();
       {
         // Unary part, and (pruning) the nodes whose move their unary decides: switching costs more than
         // all their pairwise and clique terms could pay back (keep in every optimal move), or gains more
@@ -215,7 +202,6 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
             const uint8_t f = static_cast<uint8_t>((d > decide_bound[i]) * kMoveKeep + (d < -decide_bound[i]) * kMoveSwitch);
             decided[i] = f;
             pruned += f != kMoveFree;
-            if (f != kMoveKeep) active_nodes.push_back(i);
           }
         }
       }
@@ -233,16 +219,8 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
           if (cap > 0 || edge_live[e]) {
             graph.SetEdgeCapacities(e, cap, 0);
             edge_live[e] = cap > 0;
-            if (prune && cap > 0 && e < num_pairwise) live_pairwise.push_back(e);
           }
         };
-        if (prune) {  // Every pairwise edge starts at zero; the loop below sets those of the active nodes.
-          for (int e : live_pairwise) {
-            graph.SetEdgeCapacities(e, 0, 0);
-            edge_live[e] = 0;
-          }
-          live_pairwise.clear();
-        }
         // Branch-free (the states are random): keep -> free: cap t_head; keep -> switch: cap;
         // free -> switch: cap (1 - t_tail); free -> free: the arc; anything else: 0.
         auto arc = [&](int e, int tail, int head, double cap, uint8_t ft, uint8_t fh) {
@@ -255,7 +233,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
         };
         const uint8_t* const dec = prune ? decided.data() : nullptr;
         auto state = [&](int v) { return dec ? dec[v] : kMoveFree; };
-        auto pairwise_term = [&](int e) {
+        for (int e = 0; e < num_pairwise; ++e) {
           const CrfEnergy::Edge& edge = edges[e];
           const CrfLabel li = x[edge.i], lj = x[edge.j];
           const bool fi = li == alpha, fj = lj == alpha;  // Fixed at alpha.
@@ -276,7 +254,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
               d[edge.j] -= w;
               arc(e, edge.i, edge.j, 2 * w - A, state(edge.i), state(edge.j));
             }
-            return;
+            continue;
           }
           const double D = energy.EdgeCost(edge, alpha, alpha);
           if (fi || fj) {
@@ -306,23 +284,6 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
             d[edge.j] += D - Cc;
             arc(e, edge.i, edge.j, cap, state(edge.i), state(edge.j));
           }
-        };
-        if (prune) {
-          // Each edge of an active node once (from its lower active end); an edge between two inactive
-          // nodes (kept, or at alpha) costs what it costs now and adds no arc.
-          double visited_cost = 0;
-          for (int i : active_nodes)
-            for (int e : edge_incidence.Of(i)) {
-              const CrfEnergy::Edge& edge = edges[e];
-              const int other = edge.i == i ? edge.j : edge.i;
-              const uint8_t fo = dec[other];
-              if ((fo == kMoveFree || fo == kMoveSwitch) && other < i) continue;
-              visited_cost += energy.EdgeCost(edge, x[edge.i], x[edge.j]);
-              pairwise_term(e);
-            }
-          pairwise_constant += pairwise_current - visited_cost;
-        } else {
-          for (int e = 0; e < num_pairwise; ++e) pairwise_term(e);
         }
         for (int c = 0; c < C; ++c) {
           const RobustPnMove plan = PlanRobustPnMove(energy, c, labels, alpha, &scratch);
@@ -376,9 +337,8 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
           changed_nodes.push_back(i);
         }
       }
-      double pairwise_change = 0;
       const double change = ExpansionEnergyChange(energy, edge_incidence, clique_incidence, labels, current_unary, changed_nodes,
-                                                  changed, alpha, &clique_stamp, stamp++, &old_weight, &new_weight, &pairwise_change);
+                                                  changed, alpha, &clique_stamp, stamp++, &old_weight, &new_weight);
       const double tolerance = options.consistency_tolerance * (1.0 + std::abs(current));
       if (truncated == 0) {
         // The cut value is the move energy of the chosen move; the move "keep everything" costs `current`.
@@ -399,7 +359,6 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
           current_unary[i] = plane[i];
         }
         current += change;
-        pairwise_current += pairwise_change;
         ++change_counter;
         ++moves_in_sweep;
         ++summary->num_moves;
@@ -424,7 +383,6 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       ExpansionInvariantFailed("energy rose over a sweep");
     }
     current = exact;
-    if (options.prune_decided_nodes) pairwise_current = pairwise_total();
     current_unary_sum = 0;
     for (int i = 0; i < N; ++i) current_unary_sum += current_unary[i];
     summary->energy_per_sweep.push_back(exact);
