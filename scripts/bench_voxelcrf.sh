@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Voxel-CRF figures (issue 6): model variants on validation apartments, then the solvers on one apartment.
-#   scripts/bench_voxelcrf.sh [--seeds 100-104] [--seed 100]
+#   scripts/bench_voxelcrf.sh [--seeds 100-104] [--seed 324]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/build.sh >/dev/null
 BUILD_DIR=${SEMVOX_BUILD_DIR:-build}
 SEEDS=100-104
-SEED=100
+SEED=324  # 104 m² of rooms (14.8 x 8.0 m), the largest of seeds 200-500: the issue's 100 m² apartment
 while [ $# -gt 0 ]; do
   case "$1" in
     --seeds) SEEDS=$2; shift 2 ;;
