@@ -382,6 +382,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
          exact > summary->energy_per_sweep.back() + options.consistency_tolerance * (1.0 + std::abs(exact)))) {
       ExpansionInvariantFailed("energy rose over a sweep");
     }
+    const double before_sweep = summary->energy_per_sweep.empty() ? summary->initial_energy : summary->energy_per_sweep.back();
     current = exact;
     current_unary_sum = 0;
     for (int i = 0; i < N; ++i) current_unary_sum += current_unary[i];
@@ -391,6 +392,11 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
                                                 << " moves");
     if (moves_in_sweep == 0) {
       summary->converged = true;
+      break;
+    }
+    if (options.min_sweep_improvement > 0 && before_sweep - exact < options.min_sweep_improvement * std::abs(before_sweep)) {
+      SEMVOX_LOG(kDebug, "alpha-expansion: sweep " << sweep + 1 << " lowered E by " << before_sweep - exact << " (< "
+                                                   << options.min_sweep_improvement << " |E|), stopping");
       break;
     }
   }

@@ -11,6 +11,8 @@ bool AlphaExpansionOptions::Check(std::string* error) const {
   } else if (!(consistency_tolerance > 0 && consistency_tolerance <= 1e-2)) {
     os << "consistency_tolerance = " << consistency_tolerance
        << ". Violated constraint: 0 < consistency_tolerance <= 1e-2";
+  } else if (!(min_sweep_improvement >= 0 && min_sweep_improvement < 1)) {
+    os << "min_sweep_improvement = " << min_sweep_improvement << ". Violated constraint: 0 <= min_sweep_improvement < 1";
   } else {
     return true;
   }

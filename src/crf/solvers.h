@@ -46,6 +46,8 @@ struct AlphaExpansionOptions {
   double consistency_tolerance = 1e-6;  // Relative tolerance of the check "cut value = energy change"
                                         // and of "energy never rises". In (0, 1e-2].
   bool log_expansions = false;          // One debug log line per expansion (energy, label, changes).
+  double min_sweep_improvement = 0;     // Stop once a sweep lowers the energy by less than this fraction of
+                                        // |E| (0: sweep until no expansion moves, the classical rule). [0, 1).
   bool prune_decided_nodes = true;      // Before each cut, fix the nodes whose move their own terms decide
                                         // (strict dominance: switching costs more than all arcs could pay
                                         // back, or the reverse); exact, and most nodes of a typical move.
