@@ -16,6 +16,7 @@
 #include <random>
 #include <string>
 
+#include "objects/dense_crf_check.h"
 #include "objects/proposal_training.h"
 #include "objects/support_training.h"
 
@@ -85,6 +86,11 @@ int main(int argc, char** argv) {
   int repeats = 3, sample = 400, region_px = 0;
   double crf_weight_scale = 1.0, svm_c = 0, svm_gamma = 0;
   int other_rows = 0, balance = -1, small_scaled = 0, small_only = 0;
+  // Lattice refinements (DenseCrfOptions::lattice_refinement, lattice_refinement_5d) for the small-image
+  // comparisons ("test": the settings of DenseCrf.PermutohedralMeanFieldMatchesBruteForce) and for the
+  // 640 x 480 runs (default: the pipeline's, DenseCrfOptions{}).
+  int refine_small = kTestRefinement, refine_small_5d = kTestRefinement5d;
+  int refine = DenseCrfOptions{}.lattice_refinement, refine_5d = DenseCrfOptions{}.lattice_refinement_5d;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--model") model = argv[i + 1];
@@ -101,6 +107,10 @@ int main(int argc, char** argv) {
     else if (a == "--balance") balance = std::atoi(argv[i + 1]);
     else if (a == "--small-scaled") small_scaled = std::atoi(argv[i + 1]);
     else if (a == "--small-only") small_only = std::atoi(argv[i + 1]);
+    else if (a == "--refinement") refine = std::atoi(argv[i + 1]);
+    else if (a == "--refinement-5d") refine_5d = std::atoi(argv[i + 1]);
+    else if (a == "--small-refinement") refine_small = std::atoi(argv[i + 1]);
+    else if (a == "--small-refinement-5d") refine_small_5d = std::atoi(argv[i + 1]);
     else if (a == "--svm-gamma") svm_gamma = std::atof(argv[i + 1]);
     else if (a == "--train-seeds") train_seeds = argv[i + 1];
     else if (a == "--val-seeds") val_seeds = argv[i + 1];
@@ -143,9 +153,32 @@ int main(int argc, char** argv) {
   }
   std::unique_ptr<SupportClutterClassifier> clf;
   if (!model.empty()) {
-    Result<SupportClutterClassifier> loaded = SupportClutterClassifier::Load(model, SupportClutterOptions{});
+    SupportClutterOptions options;
+    options.crf.lattice_refinement = refine, options.crf.lattice_refinement_5d = refine_5d;
+    Result<SupportClutterClassifier> loaded = SupportClutterClassifier::Load(model, options);
     if (!loaded.ok()) { std::fprintf(stderr, "support_bench: %s\n", loaded.status().message().c_str()); return 2; }
     clf = std::make_unique<SupportClutterClassifier>(std::move(loaded).value());
+  }
+  // 0. The test's synthetic 40 x 30 image, the test's settings.
+  {
+    const SyntheticCrfImage im = MakeSyntheticCrfImage();
+    DenseCrfOptions o = SyntheticCrfOptions();
+    o.lattice_refinement = refine_small, o.lattice_refinement_5d = refine_small_5d;
+    auto t0 = std::chrono::steady_clock::now();
+    Result<DenseCrf> crf = DenseCrf::Create({&im.rgb, &im.height, &im.normal}, o);
+    if (!crf.ok()) { std::fprintf(stderr, "support_bench: %s\n", crf.status().message().c_str()); return 1; }
+    const double t_build = Ms(t0);
+    t0 = std::chrono::steady_clock::now();
+    const std::vector<float> fast = crf->MeanField(im.p, 3, false);
+    const double t_fast = Ms(t0);
+    t0 = std::chrono::steady_clock::now();
+    const std::vector<float> brute = crf->MeanField(im.p, 3, true);
+    const double t_brute = Ms(t0);
+    double max_d = 0, mean_d = 0;
+    for (size_t i = 0; i < fast.size(); ++i) max_d = std::max(max_d, double(std::abs(fast[i] - brute[i]))), mean_d += std::abs(fast[i] - brute[i]) / double(fast.size());
+    std::printf("test image 40x30 (synthetic table top, theta_beta 8 px, weights 1, refinement %d / 5-D %d): |dQ| max %.2e mean %.2e; "
+                "lattice build %.0f ms + mean-field %.1f ms, brute force %.0f ms\n",
+                o.lattice_refinement, o.lattice_refinement_5d, max_d, mean_d, t_build, t_fast, t_brute);
   }
   // 1. Small image: lattice against exact sums.
   {
@@ -156,6 +189,7 @@ int main(int argc, char** argv) {
     // down with the image (4 px, 1 px) puts neighbouring pixels one standard deviation apart, where the
     // lattice's interpolation is coarse: `--small-scaled 1` measures that case.
     DenseCrfOptions o;
+    o.lattice_refinement = refine_small, o.lattice_refinement_5d = refine_small_5d;
     if (small_scaled) o.position_scale_px = o.position_scale_px * 64 / 640, o.smoothness_scale_px = 1.0;
     const ImageF32 height = PixelHeights(view);
     Result<DenseCrf> crf = DenseCrf::Create({&view.rgb, &height, &view.normal}, o);
@@ -185,9 +219,9 @@ int main(int argc, char** argv) {
       disagree += a != b;
       undecided += brute[i * 3 + size_t(b)] < 0.99f;
     }
-    std::printf("small image 64x48 (%zu px, %d iterations, unary %s): theta_beta %.0f px, theta_p %.0f px; %d pixels below 0.99): "
+    std::printf("small image 64x48 (%zu px, %d iterations, unary %s, refinement %d / 5-D %d): theta_beta %.0f px, theta_p %.0f px; %d pixels below 0.99): "
                 "|dQ| max %.2e mean %.2e, argmax disagreements %d; lattice %.2f ms, brute force %.1f ms (x%.0f)\n",
-                n, o.iterations, clf ? "SVM" : "noisy truth", o.position_scale_px, o.smoothness_scale_px, undecided, max_d, mean_d, disagree,
+                n, o.iterations, clf ? "SVM" : "noisy truth", o.lattice_refinement, o.lattice_refinement_5d, o.position_scale_px, o.smoothness_scale_px, undecided, max_d, mean_d, disagree,
                 t_fast, t_brute, t_brute / t_fast);
   }
   if (small_only) return 0;
@@ -197,6 +231,7 @@ int main(int argc, char** argv) {
   if (!FirstView(seed, 640, 480, &view, &truth)) { std::fprintf(stderr, "support_bench: no 640x480 view\n"); return 1; }
   {
     DenseCrfOptions o;
+    o.lattice_refinement = refine, o.lattice_refinement_5d = refine_5d;
     const ImageF32 height = PixelHeights(view);
     auto t0 = std::chrono::steady_clock::now();
     Result<DenseCrf> crf = DenseCrf::Create({&view.rgb, &height, &view.normal}, o);
@@ -214,9 +249,9 @@ int main(int argc, char** argv) {
     t0 = std::chrono::steady_clock::now();
     for (int k = 0; k < sample; ++k) crf->BruteForceMessage(int(int64_t(k) * n / sample), p, kNumSupportClasses, out.data());
     const double t_brute = Ms(t0) / sample * n * o.iterations;
-    std::printf("640x480 (%d px, %d iterations): lattice build %.0f ms + mean-field %.0f ms; brute force (one core, "
+    std::printf("640x480 (%d px, %d iterations, refinement %d / 5-D %d): lattice build %.0f ms + mean-field %.0f ms; brute force (one core, "
                 "extrapolated from %d pixels) %.0f s: speed-up x%.0f\n",
-                n, o.iterations, t_build, t_fast, sample, t_brute / 1000, t_brute / (t_build + t_fast));
+                n, o.iterations, o.lattice_refinement, o.lattice_refinement_5d, t_build, t_fast, sample, t_brute / 1000, t_brute / (t_build + t_fast));
   }
   if (clf) {
     double s = 0, f = 0, v = 0, c = 0;

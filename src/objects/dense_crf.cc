@@ -25,6 +25,11 @@ bool DenseCrfOptions::Check(std::string* error) const {
     if (!(v > 0)) return fail(std::string(name) + " = " + num(v) + ". Violated constraint: " + name + " > 0");
   if (!(probability_floor > 0 && probability_floor < 0.5))
     return fail("probability_floor = " + num(probability_floor) + ". Violated constraint: 0 < probability_floor < 0.5");
+  const std::pair<const char*, int> refinements[] = {{"lattice_refinement", lattice_refinement}, {"lattice_refinement_5d", lattice_refinement_5d}};
+  for (const auto& [name, v] : refinements)
+    if (v < 1 || v > PermutohedralLattice::kMaxRefinement)
+      return fail(std::string(name) + " = " + std::to_string(v) + ". Violated constraint: 1 <= " + name +
+                  " <= " + std::to_string(PermutohedralLattice::kMaxRefinement));
   return true;
 }
 
@@ -66,7 +71,10 @@ Result<DenseCrf> DenseCrf::Create(const DenseCrfInput& input, const DenseCrfOpti
     f[0] = x * sb, f[1] = y * sb;
     for (int c = 0; c < 3; ++c) f[2 + c] = input.normal->at(x, y, c) * sn;
   });
-  for (Kernel& k : crf.kernels_) k.lattice.Build(k.features.data(), crf.n_, k.dims);
+  for (Kernel& k : crf.kernels_) {
+    const int refinement = k.dims > 3 ? options.lattice_refinement_5d : options.lattice_refinement;
+    k.lattice.Build(k.features.data(), crf.n_, k.dims, refinement);
+  }
   return crf;
 }
 

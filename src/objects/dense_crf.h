@@ -45,6 +45,11 @@ struct DenseCrfOptions {
   double normal_weight = 2.0;           // w4. >= 0.
   double normal_scale = 0.3;            // theta_n, on unit normals. > 0.
   double probability_floor = 1e-4;      // Unary probabilities are clamped below by this. (0, 0.5).
+  // PermutohedralLattice::Build's refinement r (lattice s = sqrt((3r + 1) / 4) times finer, r blur passes):
+  // for the smoothness (2-D) and height (3-D) kernels, and for the appearance and normal (5-D) kernels,
+  // whose refined lattices cost far more vertices (the image's 2-D manifold thickened in 3 dimensions). [1, 64].
+  int lattice_refinement = 1;
+  int lattice_refinement_5d = 1;
 
   bool Check(std::string* error) const;
 };
