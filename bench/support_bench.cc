@@ -1,10 +1,13 @@
 // Support / clutter / other (issue 8): permutohedral against brute-force mean-field, and per-view cost.
 //
-//   support_bench [--model models/support_clutter.svm] [--seed 100] [--repeats 3]
+//   support_bench [--model models/support_clutter.svm] [--seed 100] [--repeats 3] [--refinement 1] [--refinement-5d 1]
+//                 [--small-refinement 32] [--small-refinement-5d 2]
 //   support_bench --train OUT.svm [--train-seeds 0-39] [--val-seeds 100-109]   (same as `semvox train`'s step)
 //
+// 0. The check image of objects/dense_crf_check.h (40 x 30, the settings of
+//    DenseCrf.PermutohedralMeanFieldMatchesBruteForce unless --small-refinement[-5d]): max and mean |dQ|, times.
 // 1. Small image (64 x 48, a generated validation view): mean-field marginals with the lattice and with
-//    exact O(n^2) kernel sums; max and mean |dQ|, argmax disagreements, both times.
+//    exact O(n^2) kernel sums; max and mean |dQ|, argmax disagreements, both times (same refinements as 0).
 // 2. 640 x 480: the lattice's mean-field time; brute force's time extrapolated from the exact messages of
 //    `--sample` pixels (n^2 is ~10^11 kernel evaluations per kernel and iteration at this size).
 // 3. Per-view cost of the whole classifier at 640 x 480 (superpixels, features, SVM, CRF), when a model is given.

@@ -7,10 +7,11 @@
 //
 // Build embeds every point in the d-dimensional hyperplane of Z^{d+1} (the lattice A*_d), finds the
 // enclosing simplex and its barycentric weights and records the d+1 lattice vertices of every point.
-// Filter is then splat (points -> vertices, barycentric weights), blur (a [1 2 1]/4 filter along each of the
-// d+1 lattice directions) and slice (vertices -> points). Both are linear in n: Build O(n d^2), Filter
-// O((n + L) d m) for L lattice vertices (L <= n (d+1)). The lattice is built once per kernel and reused for
-// every mean-field iteration.
+// Filter is then splat (points -> vertices, barycentric weights), blur (a [1 2 1]/4 filter, r times along
+// each of the d+1 lattice directions) and slice (vertices -> points). Both are linear in n: Build O(n d^2 +
+// L d r), Filter O(n d m + L d r m) for L lattice vertices (L <= n (d+1) at r = 1; a refined lattice, r > 1,
+// also holds the vertices its blur passes through, up to a factor (2r+1)^(d-2) more around the 2-D image
+// manifold). The lattice is built once per kernel and reused for every mean-field iteration.
 //
 // The filter approximates the Gaussian; the self term (j = i) is included. Error against the exact sum: see
 // tests/objects/permutohedral_test.cc and docs/objects.md.
