@@ -103,7 +103,7 @@ void PermutohedralLattice::Build(const float* features, int n, int d, int refine
       }
       elevated[0] = sm;
       for (int i = 0; i <= d; ++i)
-        if (!(std::abs(elevated[size_t(i)]) < 28000.0)) out_of_range = true;  // Keys are int16 (NaN too), dilation adds <= 64 (d+1).
+        if (!(std::abs(elevated[size_t(i)]) < 28000.0)) out_of_range = true;  // Keys are int16 (NaN fails too); dilation moves a coordinate by <= 2 r d <= 2048.
       if (out_of_range) continue;
       // Closest remainder-0 point (all coordinates multiples of d+1), then the rank of every coordinate's
       // difference: the permutation that identifies the enclosing simplex.
