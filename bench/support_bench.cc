@@ -1,11 +1,13 @@
 // Support / clutter / other (issue 8): permutohedral against brute-force mean-field, and per-view cost.
 //
 //   support_bench [--model models/support_clutter.svm] [--seed 100] [--repeats 3] [--refinement 1] [--refinement-5d 1]
-//                 [--small-refinement 32] [--small-refinement-5d 2]
+//                 [--small-refinement 1] [--small-refinement-5d 1] [--exact-smoothness 1] [--height-grid 0.25]
+//                 [--height-grid-position 0.5] [--small-only 0|1|2 (2: the check image only)]
 //   support_bench --train OUT.svm [--train-seeds 0-39] [--val-seeds 100-109]   (same as `semvox train`'s step)
 //
 // 0. The check image of objects/dense_crf_check.h (40 x 30, the settings of
-//    DenseCrf.PermutohedralMeanFieldMatchesBruteForce unless --small-refinement[-5d]): max and mean |dQ|, times.
+//    DenseCrf.PermutohedralMeanFieldMatchesBruteForce, i.e. the pipeline's filters, unless overridden by
+//    --small-refinement[-5d], --exact-smoothness, --height-grid[-position]): max and mean |dQ|, times.
 // 1. Small image (64 x 48, a generated validation view): mean-field marginals with the lattice and with
 //    exact O(n^2) kernel sums; max and mean |dQ|, argmax disagreements, both times (same refinements as 0).
 // 2. 640 x 480: the lattice's mean-field time; brute force's time extrapolated from the exact messages of
@@ -90,10 +92,12 @@ int main(int argc, char** argv) {
   double crf_weight_scale = 1.0, svm_c = 0, svm_gamma = 0;
   int other_rows = 0, balance = -1, small_scaled = 0, small_only = 0;
   // Lattice refinements (DenseCrfOptions::lattice_refinement, lattice_refinement_5d) for the small-image
-  // comparisons ("test": the settings of DenseCrf.PermutohedralMeanFieldMatchesBruteForce) and for the
-  // 640 x 480 runs (default: the pipeline's, DenseCrfOptions{}).
-  int refine_small = kTestRefinement, refine_small_5d = kTestRefinement5d;
+  // comparisons and for the 640 x 480 runs, and the smoothness / height filters (all runs); default: the
+  // pipeline's, DenseCrfOptions{}, which the test uses too.
+  int refine_small = DenseCrfOptions{}.lattice_refinement, refine_small_5d = DenseCrfOptions{}.lattice_refinement_5d;
   int refine = DenseCrfOptions{}.lattice_refinement, refine_5d = DenseCrfOptions{}.lattice_refinement_5d;
+  double height_grid = DenseCrfOptions{}.height_grid_spacing, height_grid_pos = DenseCrfOptions{}.height_grid_position_spacing;
+  int exact_smoothness = DenseCrfOptions{}.exact_smoothness;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--model") model = argv[i + 1];
@@ -114,6 +118,9 @@ int main(int argc, char** argv) {
     else if (a == "--refinement-5d") refine_5d = std::atoi(argv[i + 1]);
     else if (a == "--small-refinement") refine_small = std::atoi(argv[i + 1]);
     else if (a == "--small-refinement-5d") refine_small_5d = std::atoi(argv[i + 1]);
+    else if (a == "--height-grid") height_grid = std::atof(argv[i + 1]);
+    else if (a == "--height-grid-position") height_grid_pos = std::atof(argv[i + 1]);
+    else if (a == "--exact-smoothness") exact_smoothness = std::atoi(argv[i + 1]);
     else if (a == "--svm-gamma") svm_gamma = std::atof(argv[i + 1]);
     else if (a == "--train-seeds") train_seeds = argv[i + 1];
     else if (a == "--val-seeds") val_seeds = argv[i + 1];
@@ -158,6 +165,7 @@ int main(int argc, char** argv) {
   if (!model.empty()) {
     SupportClutterOptions options;
     options.crf.lattice_refinement = refine, options.crf.lattice_refinement_5d = refine_5d;
+    options.crf.height_grid_spacing = height_grid, options.crf.height_grid_position_spacing = height_grid_pos, options.crf.exact_smoothness = exact_smoothness != 0;
     Result<SupportClutterClassifier> loaded = SupportClutterClassifier::Load(model, options);
     if (!loaded.ok()) { std::fprintf(stderr, "support_bench: %s\n", loaded.status().message().c_str()); return 2; }
     clf = std::make_unique<SupportClutterClassifier>(std::move(loaded).value());
@@ -167,6 +175,7 @@ int main(int argc, char** argv) {
     const SyntheticCrfImage im = MakeSyntheticCrfImage();
     DenseCrfOptions o = SyntheticCrfOptions();
     o.lattice_refinement = refine_small, o.lattice_refinement_5d = refine_small_5d;
+    o.height_grid_spacing = height_grid, o.height_grid_position_spacing = height_grid_pos, o.exact_smoothness = exact_smoothness != 0;
     auto t0 = std::chrono::steady_clock::now();
     Result<DenseCrf> crf = DenseCrf::Create({&im.rgb, &im.height, &im.normal}, o);
     if (!crf.ok()) { std::fprintf(stderr, "support_bench: %s\n", crf.status().message().c_str()); return 1; }
@@ -182,6 +191,7 @@ int main(int argc, char** argv) {
     std::printf("test image 40x30 (synthetic table top, theta_beta 8 px, weights 1, refinement %d / 5-D %d): |dQ| max %.2e mean %.2e; "
                 "lattice build %.0f ms + mean-field %.1f ms, brute force %.0f ms\n",
                 o.lattice_refinement, o.lattice_refinement_5d, max_d, mean_d, t_build, t_fast, t_brute);
+    if (small_only == 2) return 0;
   }
   // 1. Small image: lattice against exact sums.
   {
@@ -193,6 +203,7 @@ int main(int argc, char** argv) {
     // lattice's interpolation is coarse: `--small-scaled 1` measures that case.
     DenseCrfOptions o;
     o.lattice_refinement = refine_small, o.lattice_refinement_5d = refine_small_5d;
+    o.height_grid_spacing = height_grid, o.height_grid_position_spacing = height_grid_pos, o.exact_smoothness = exact_smoothness != 0;
     if (small_scaled) o.position_scale_px = o.position_scale_px * 64 / 640, o.smoothness_scale_px = 1.0;
     const ImageF32 height = PixelHeights(view);
     Result<DenseCrf> crf = DenseCrf::Create({&view.rgb, &height, &view.normal}, o);
@@ -235,6 +246,7 @@ int main(int argc, char** argv) {
   {
     DenseCrfOptions o;
     o.lattice_refinement = refine, o.lattice_refinement_5d = refine_5d;
+    o.height_grid_spacing = height_grid, o.height_grid_position_spacing = height_grid_pos, o.exact_smoothness = exact_smoothness != 0;
     const ImageF32 height = PixelHeights(view);
     auto t0 = std::chrono::steady_clock::now();
     Result<DenseCrf> crf = DenseCrf::Create({&view.rgb, &height, &view.normal}, o);

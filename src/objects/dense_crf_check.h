@@ -6,7 +6,8 @@
 // beside a wall (height 1.5 - 0.02 y m, normal +x, dark RGB), RGB noise 0..9, noisy unaries (seed 7).
 // All four kernels of the pipeline (appearance, smoothness, height, normal) at their configured scales
 // except theta_beta = 8 px (40 px at 640 x 480, scaled with the image); weights 1, which keep the marginals
-// away from 0 and 1, where any two solvers agree trivially.
+// away from 0 and 1, where any two solvers agree trivially. The filters are the pipeline's defaults
+// (DenseCrfOptions{}: exact separable smoothness, height on the cubic grid, 5-D kernels on the lattice).
 #pragma once
 
 #include <cstdint>
@@ -17,11 +18,6 @@
 #include "objects/dense_crf.h"
 
 namespace semvox {
-
-// Lattice refinements at which the check holds (max |dQ| <= 1e-3): smoothness and height lattices 32,
-// appearance and normal lattices 2 (DenseCrfOptions::lattice_refinement, lattice_refinement_5d).
-constexpr int kTestRefinement = 32;
-constexpr int kTestRefinement5d = 2;
 
 struct SyntheticCrfImage {
   ImageRgb8 rgb;
@@ -52,8 +48,6 @@ inline DenseCrfOptions SyntheticCrfOptions() {
   DenseCrfOptions options;
   options.position_scale_px = 8;
   options.appearance_weight = options.smoothness_weight = options.height_weight = options.normal_weight = 1.0;
-  options.lattice_refinement = kTestRefinement;
-  options.lattice_refinement_5d = kTestRefinement5d;
   return options;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "objects/dense_crf.h"
+#include "objects/cubic_grid.h"
 #include "objects/dense_crf_check.h"
 
 namespace semvox {
@@ -72,12 +73,12 @@ TEST(PermutohedralLattice, RefinedLatticeIsMoreAccurate) {
   const double coarse = GridError(1.0, 1, &vertices);
   const double fine8 = GridError(1.0, 8, &vertices);
   const double fine32 = GridError(1.0, 32, &vertices);
-  const double dense32 = GridError(1.0 / 3.0, 32, &vertices);
-  std::printf("grid spacing 1: max relative error %.4f (r 1), %.4f (r 8), %.4f (r 32); spacing 1/3, r 32: %.4f\n", coarse, fine8, fine32, dense32);
+  const double dense16 = GridError(1.0 / 3.0, 16, &vertices);
+  std::printf("grid spacing 1: max relative error %.4f (r 1), %.4f (r 8), %.4f (r 32); spacing 1/3, r 16: %.4f\n", coarse, fine8, fine32, dense16);
   EXPECT_LT(coarse, 0.08);
   EXPECT_LT(fine8, 0.012);
   EXPECT_LT(fine32, 0.004);
-  EXPECT_LT(dense32, 0.003);
+  EXPECT_LT(dense16, 0.004);
   EXPECT_THROW(PermutohedralLattice().Build(nullptr, 0, 2, 0), std::invalid_argument);
 }
 
@@ -103,10 +104,69 @@ TEST(PermutohedralLattice, FilterIsLinearAndChannelsIndependent) {
   }
 }
 
-// Mean-field with the lattice against mean-field with exact kernel sums on the small synthetic image of
-// objects/dense_crf_check.h (40 x 30: a raised table top beside a wall, noisy unaries; the pipeline's four
-// kernels, theta_beta 8 px, weights 1), at the refinements kTestRefinement (smoothness, height) and
-// kTestRefinement5d (appearance, normal): the "same marginals within 1e-3".
+// The cubic grid (height kernel) against the exact Gaussian sum: 3-D points, two on a pixel-like grid in
+// position (spacing 1/8) and one scattered in height, spacing 1/4 (height) and 1/2 (position) as in
+// DenseCrfOptions. Error relative to the largest sum (the normalised messages divide two such sums).
+TEST(CubicGrid, ApproximatesGaussian) {
+  const int w = 24, h = 20, n = w * h, d = 3;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  std::vector<float> f(size_t(n) * d), v(size_t(n) * 2);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      float* fp = &f[size_t((y * w + x) * d)];
+      fp[0] = x / 8.f, fp[1] = y / 8.f, fp[2] = (x < 12 ? 3.f : 0.f) + 2.f * u(rng);
+      v[size_t(2 * (y * w + x))] = u(rng), v[size_t(2 * (y * w + x) + 1)] = 1.f;
+    }
+  const std::vector<double> exact = ExactFilter(f, n, d, v, 2);
+  double peak = 0;
+  for (double e : exact) peak = std::max(peak, e);
+  // Max error relative to the peak sum, and of the normalised average (channel 0 / channel 1).
+  auto errors = [&](const std::vector<double>& spacing, double* rel, double* ratio) {
+    CubicGrid grid;
+    grid.Build(f.data(), n, d, spacing);
+    std::vector<float> out;
+    grid.Filter(v.data(), 2, &out);
+    *rel = *ratio = 0;
+    for (int i = 0; i < n; ++i) {
+      for (int c = 0; c < 2; ++c) *rel = std::max(*rel, std::abs(out[size_t(2 * i + c)] - exact[size_t(2 * i + c)]) / peak);
+      *ratio = std::max(*ratio, std::abs(out[size_t(2 * i)] / out[size_t(2 * i + 1)] - exact[size_t(2 * i)] / exact[size_t(2 * i + 1)]));
+    }
+    return grid.num_cells();
+  };
+  double rel = 0, ratio = 0, rel_fine = 0, ratio_fine = 0;
+  const int64_t cells = errors({0.5, 0.5, 0.25}, &rel, &ratio);
+  const int64_t cells_fine = errors({0.25, 0.25, 0.25}, &rel_fine, &ratio_fine);
+  std::printf("cubic grid (spacing 0.5, 0.5, 0.25): %lld nodes, max error %.2e of the peak sum %.1f, normalised average %.2e; "
+              "(0.25, 0.25, 0.25): %lld nodes, %.2e, %.2e\n", (long long)cells, rel, peak, ratio, (long long)cells_fine, rel_fine, ratio_fine);
+  EXPECT_LT(rel, 1e-2);
+  EXPECT_LT(ratio, 1e-3);
+  EXPECT_LT(rel_fine, 2e-3);
+  EXPECT_LT(ratio_fine, 3e-4);
+  EXPECT_THROW(CubicGrid().Build(f.data(), n, d, {0.5, 0.5}), std::invalid_argument);
+}
+
+// The smoothness kernel by separable convolution on the pixel grid equals the exact sum (up to the tail
+// beyond 5 theta_p and float rounding): messages of a smoothness-only CRF.
+TEST(DenseCrf, SeparableSmoothnessMatchesBruteForce) {
+  const SyntheticCrfImage im = MakeSyntheticCrfImage();
+  DenseCrfOptions options;
+  options.appearance_weight = options.height_weight = options.normal_weight = 0;
+  Result<DenseCrf> crf = DenseCrf::Create({&im.rgb, &im.height, &im.normal}, options);
+  ASSERT_TRUE(crf.ok()) << crf.status().message();
+  std::vector<float> fast, exact;
+  crf->Messages(im.p, 3, false, &fast);
+  crf->Messages(im.p, 3, true, &exact);
+  double max_diff = 0;
+  for (size_t i = 0; i < fast.size(); ++i) max_diff = std::max(max_diff, double(std::abs(fast[i] - exact[i])));
+  std::printf("separable smoothness vs brute force: max message difference %.2e\n", max_diff);
+  EXPECT_LT(max_diff, 1e-5);
+}
+
+// Mean-field with the pipeline's filters (DenseCrfOptions{}: separable smoothness, cubic grid for height,
+// permutohedral lattice for appearance and normal) against mean-field with exact kernel sums on the small
+// synthetic image of objects/dense_crf_check.h (40 x 30: a raised table top beside a wall, noisy unaries;
+// the pipeline's four kernels, theta_beta 8 px, weights 1): the "same marginals within 1e-3".
 TEST(DenseCrf, PermutohedralMeanFieldMatchesBruteForce) {
   const int m = 3;
   const SyntheticCrfImage im = MakeSyntheticCrfImage();
@@ -131,8 +191,9 @@ TEST(DenseCrf, PermutohedralMeanFieldMatchesBruteForce) {
     }
     argmax_disagree += a != b;
   }
-  std::printf("permutohedral (refinement %d, 5-D %d) vs brute force: max |dQ| %.2e, mean %.2e, argmax disagreements %d / %d\n",
-              options.lattice_refinement, options.lattice_refinement_5d, max_diff, mean_diff, argmax_disagree, n);
+  std::printf("pipeline filters (refinement %d, 5-D %d, height grid %.2f / %.2f) vs brute force: max |dQ| %.2e, mean %.2e, argmax disagreements %d / %d\n",
+              options.lattice_refinement, options.lattice_refinement_5d, options.height_grid_spacing, options.height_grid_position_spacing,
+              max_diff, mean_diff, argmax_disagree, n);
   std::printf("largest change from the unary: %.3f\n", moved);
   EXPECT_GT(moved, 0.2);
   EXPECT_LE(max_diff, 1e-3);
