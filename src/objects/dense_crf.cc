@@ -96,6 +96,9 @@ Result<DenseCrf> DenseCrf::Create(const DenseCrfInput& input, const DenseCrfOpti
     const int refinement = k.dims > 3 ? options.lattice_refinement_5d : options.lattice_refinement;
     k.lattice.Build(k.features.data(), crf.n_, k.dims, refinement);
   }
+  // The normaliser of every kernel does not change between iterations: filter a channel of ones once.
+  const std::vector<float> ones(n, 1.f);
+  for (Kernel& k : crf.kernels_) crf.Filter(k, ones, 1, &k.normaliser);
   return crf;
 }
 
@@ -170,20 +173,16 @@ void DenseCrf::Messages(const std::vector<float>& q, int m, bool brute_force, st
     });
     return;
   }
-  // One extra channel of ones gives the normaliser Z_i = sum_j k(f_i, f_j) in the same filtering pass.
-  const size_t n = size_t(n_), m1 = size_t(m) + 1;
-  std::vector<float> in(n * m1), filtered;
-  for (size_t i = 0; i < n; ++i) {
-    for (size_t l = 0; l < size_t(m); ++l) in[i * m1 + l] = q[i * size_t(m) + l];
-    in[i * m1 + size_t(m)] = 1.f;
-  }
+  // The normalisers Z_i = sum_j k(f_i, f_j) were filtered once in Create.
+  const size_t n = size_t(n_);
+  std::vector<float> filtered;
   for (const Kernel& k : kernels_) {
-    Filter(k, in, int(m1), &filtered);
+    Filter(k, q, m, &filtered);
     const float w = float(k.weight);
     for (size_t i = 0; i < n; ++i) {
-      const float z = filtered[i * m1 + size_t(m)];
+      const float z = k.normaliser[i];
       if (!(z > 0)) continue;
-      for (size_t l = 0; l < size_t(m); ++l) (*out)[i * size_t(m) + l] += w * std::max(0.f, filtered[i * m1 + l]) / z;
+      for (size_t l = 0; l < size_t(m); ++l) (*out)[i * size_t(m) + l] += w * std::max(0.f, filtered[i * size_t(m) + l]) / z;
     }
   }
 }

@@ -99,6 +99,7 @@ class DenseCrf {
     PermutohedralLattice lattice;
     std::vector<float> grid_taps;  // Non-empty: exact separable convolution on the pixel grid, taps g[0..R].
     bool on_cubic_grid = false;    // Filtered by `cubic` instead of `lattice`.
+    std::vector<float> normaliser;  // n: Z_i = sum_j k(f_i, f_j), filtered once by Create.
     CubicGrid cubic;
   };
   // Filters `in` (n x m1) with kernel k (lattice or grid convolution) into `out` (n x m1).
