@@ -1,10 +1,15 @@
 // Support / clutter / other (issue 8): permutohedral against brute-force mean-field, and per-view cost.
 //
-//   support_bench [--model models/support_clutter.svm] [--seed 100] [--repeats 3]
+//   support_bench [--model models/support_clutter.svm] [--seed 100] [--repeats 3] [--refinement 1] [--refinement-5d 1]
+//                 [--small-refinement 1] [--small-refinement-5d 1] [--exact-smoothness 1] [--height-grid 0.25]
+//                 [--height-grid-position 0.5] [--small-only 0|1|2 (2: the check image only)]
 //   support_bench --train OUT.svm [--train-seeds 0-39] [--val-seeds 100-109]   (same as `semvox train`'s step)
 //
+// 0. The check image of objects/dense_crf_check.h (40 x 30, the settings of
+//    DenseCrf.PermutohedralMeanFieldMatchesBruteForce, i.e. the pipeline's filters, unless overridden by
+//    --small-refinement[-5d], --exact-smoothness, --height-grid[-position]): max and mean |dQ|, times.
 // 1. Small image (64 x 48, a generated validation view): mean-field marginals with the lattice and with
-//    exact O(n^2) kernel sums; max and mean |dQ|, argmax disagreements, both times.
+//    exact O(n^2) kernel sums; max and mean |dQ|, argmax disagreements, both times (same refinements as 0).
 // 2. 640 x 480: the lattice's mean-field time; brute force's time extrapolated from the exact messages of
 //    `--sample` pixels (n^2 is ~10^11 kernel evaluations per kernel and iteration at this size).
 // 3. Per-view cost of the whole classifier at 640 x 480 (superpixels, features, SVM, CRF), when a model is given.
@@ -16,6 +21,7 @@
 #include <random>
 #include <string>
 
+#include "objects/dense_crf_check.h"
 #include "objects/proposal_training.h"
 #include "objects/support_training.h"
 
@@ -85,6 +91,13 @@ int main(int argc, char** argv) {
   int repeats = 3, sample = 400, region_px = 0;
   double crf_weight_scale = 1.0, svm_c = 0, svm_gamma = 0;
   int other_rows = 0, balance = -1, small_scaled = 0, small_only = 0;
+  // Lattice refinements (DenseCrfOptions::lattice_refinement, lattice_refinement_5d) for the small-image
+  // comparisons and for the 640 x 480 runs, and the smoothness / height filters (all runs); default: the
+  // pipeline's, DenseCrfOptions{}, which the test uses too.
+  int refine_small = DenseCrfOptions{}.lattice_refinement, refine_small_5d = DenseCrfOptions{}.lattice_refinement_5d;
+  int refine = DenseCrfOptions{}.lattice_refinement, refine_5d = DenseCrfOptions{}.lattice_refinement_5d;
+  double height_grid = DenseCrfOptions{}.height_grid_spacing, height_grid_pos = DenseCrfOptions{}.height_grid_position_spacing;
+  int exact_smoothness = DenseCrfOptions{}.exact_smoothness;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--model") model = argv[i + 1];
@@ -101,6 +114,13 @@ int main(int argc, char** argv) {
     else if (a == "--balance") balance = std::atoi(argv[i + 1]);
     else if (a == "--small-scaled") small_scaled = std::atoi(argv[i + 1]);
     else if (a == "--small-only") small_only = std::atoi(argv[i + 1]);
+    else if (a == "--refinement") refine = std::atoi(argv[i + 1]);
+    else if (a == "--refinement-5d") refine_5d = std::atoi(argv[i + 1]);
+    else if (a == "--small-refinement") refine_small = std::atoi(argv[i + 1]);
+    else if (a == "--small-refinement-5d") refine_small_5d = std::atoi(argv[i + 1]);
+    else if (a == "--height-grid") height_grid = std::atof(argv[i + 1]);
+    else if (a == "--height-grid-position") height_grid_pos = std::atof(argv[i + 1]);
+    else if (a == "--exact-smoothness") exact_smoothness = std::atoi(argv[i + 1]);
     else if (a == "--svm-gamma") svm_gamma = std::atof(argv[i + 1]);
     else if (a == "--train-seeds") train_seeds = argv[i + 1];
     else if (a == "--val-seeds") val_seeds = argv[i + 1];
@@ -143,9 +163,35 @@ int main(int argc, char** argv) {
   }
   std::unique_ptr<SupportClutterClassifier> clf;
   if (!model.empty()) {
-    Result<SupportClutterClassifier> loaded = SupportClutterClassifier::Load(model, SupportClutterOptions{});
+    SupportClutterOptions options;
+    options.crf.lattice_refinement = refine, options.crf.lattice_refinement_5d = refine_5d;
+    options.crf.height_grid_spacing = height_grid, options.crf.height_grid_position_spacing = height_grid_pos, options.crf.exact_smoothness = exact_smoothness != 0;
+    Result<SupportClutterClassifier> loaded = SupportClutterClassifier::Load(model, options);
     if (!loaded.ok()) { std::fprintf(stderr, "support_bench: %s\n", loaded.status().message().c_str()); return 2; }
     clf = std::make_unique<SupportClutterClassifier>(std::move(loaded).value());
+  }
+  // 0. The test's synthetic 40 x 30 image, the test's settings.
+  {
+    const SyntheticCrfImage im = MakeSyntheticCrfImage();
+    DenseCrfOptions o = SyntheticCrfOptions();
+    o.lattice_refinement = refine_small, o.lattice_refinement_5d = refine_small_5d;
+    o.height_grid_spacing = height_grid, o.height_grid_position_spacing = height_grid_pos, o.exact_smoothness = exact_smoothness != 0;
+    auto t0 = std::chrono::steady_clock::now();
+    Result<DenseCrf> crf = DenseCrf::Create({&im.rgb, &im.height, &im.normal}, o);
+    if (!crf.ok()) { std::fprintf(stderr, "support_bench: %s\n", crf.status().message().c_str()); return 1; }
+    const double t_build = Ms(t0);
+    t0 = std::chrono::steady_clock::now();
+    const std::vector<float> fast = crf->MeanField(im.p, 3, false);
+    const double t_fast = Ms(t0);
+    t0 = std::chrono::steady_clock::now();
+    const std::vector<float> brute = crf->MeanField(im.p, 3, true);
+    const double t_brute = Ms(t0);
+    double max_d = 0, mean_d = 0;
+    for (size_t i = 0; i < fast.size(); ++i) max_d = std::max(max_d, double(std::abs(fast[i] - brute[i]))), mean_d += std::abs(fast[i] - brute[i]) / double(fast.size());
+    std::printf("test image 40x30 (synthetic table top, theta_beta 8 px, weights 1, refinement %d / 5-D %d): |dQ| max %.2e mean %.2e; "
+                "lattice build %.0f ms + mean-field %.1f ms, brute force %.0f ms\n",
+                o.lattice_refinement, o.lattice_refinement_5d, max_d, mean_d, t_build, t_fast, t_brute);
+    if (small_only == 2) return 0;
   }
   // 1. Small image: lattice against exact sums.
   {
@@ -156,6 +202,8 @@ int main(int argc, char** argv) {
     // down with the image (4 px, 1 px) puts neighbouring pixels one standard deviation apart, where the
     // lattice's interpolation is coarse: `--small-scaled 1` measures that case.
     DenseCrfOptions o;
+    o.lattice_refinement = refine_small, o.lattice_refinement_5d = refine_small_5d;
+    o.height_grid_spacing = height_grid, o.height_grid_position_spacing = height_grid_pos, o.exact_smoothness = exact_smoothness != 0;
     if (small_scaled) o.position_scale_px = o.position_scale_px * 64 / 640, o.smoothness_scale_px = 1.0;
     const ImageF32 height = PixelHeights(view);
     Result<DenseCrf> crf = DenseCrf::Create({&view.rgb, &height, &view.normal}, o);
@@ -185,9 +233,9 @@ int main(int argc, char** argv) {
       disagree += a != b;
       undecided += brute[i * 3 + size_t(b)] < 0.99f;
     }
-    std::printf("small image 64x48 (%zu px, %d iterations, unary %s): theta_beta %.0f px, theta_p %.0f px; %d pixels below 0.99): "
+    std::printf("small image 64x48 (%zu px, %d iterations, unary %s, refinement %d / 5-D %d): theta_beta %.0f px, theta_p %.0f px; %d pixels below 0.99): "
                 "|dQ| max %.2e mean %.2e, argmax disagreements %d; lattice %.2f ms, brute force %.1f ms (x%.0f)\n",
-                n, o.iterations, clf ? "SVM" : "noisy truth", o.position_scale_px, o.smoothness_scale_px, undecided, max_d, mean_d, disagree,
+                n, o.iterations, clf ? "SVM" : "noisy truth", o.lattice_refinement, o.lattice_refinement_5d, o.position_scale_px, o.smoothness_scale_px, undecided, max_d, mean_d, disagree,
                 t_fast, t_brute, t_brute / t_fast);
   }
   if (small_only) return 0;
@@ -197,6 +245,8 @@ int main(int argc, char** argv) {
   if (!FirstView(seed, 640, 480, &view, &truth)) { std::fprintf(stderr, "support_bench: no 640x480 view\n"); return 1; }
   {
     DenseCrfOptions o;
+    o.lattice_refinement = refine, o.lattice_refinement_5d = refine_5d;
+    o.height_grid_spacing = height_grid, o.height_grid_position_spacing = height_grid_pos, o.exact_smoothness = exact_smoothness != 0;
     const ImageF32 height = PixelHeights(view);
     auto t0 = std::chrono::steady_clock::now();
     Result<DenseCrf> crf = DenseCrf::Create({&view.rgb, &height, &view.normal}, o);
@@ -214,9 +264,9 @@ int main(int argc, char** argv) {
     t0 = std::chrono::steady_clock::now();
     for (int k = 0; k < sample; ++k) crf->BruteForceMessage(int(int64_t(k) * n / sample), p, kNumSupportClasses, out.data());
     const double t_brute = Ms(t0) / sample * n * o.iterations;
-    std::printf("640x480 (%d px, %d iterations): lattice build %.0f ms + mean-field %.0f ms; brute force (one core, "
+    std::printf("640x480 (%d px, %d iterations, refinement %d / 5-D %d): lattice build %.0f ms + mean-field %.0f ms; brute force (one core, "
                 "extrapolated from %d pixels) %.0f s: speed-up x%.0f\n",
-                n, o.iterations, t_build, t_fast, sample, t_brute / 1000, t_brute / (t_build + t_fast));
+                n, o.iterations, o.lattice_refinement, o.lattice_refinement_5d, t_build, t_fast, sample, t_brute / 1000, t_brute / (t_build + t_fast));
   }
   if (clf) {
     double s = 0, f = 0, v = 0, c = 0;

@@ -23,8 +23,17 @@ bool DenseCrfOptions::Check(std::string* error) const {
                                                    {"normal_scale", normal_scale}};
   for (const auto& [name, v] : scales)
     if (!(v > 0)) return fail(std::string(name) + " = " + num(v) + ". Violated constraint: " + name + " > 0");
+  if (!(height_grid_spacing >= 0 && height_grid_spacing <= 1))
+    return fail("height_grid_spacing = " + num(height_grid_spacing) + ". Violated constraint: 0 <= height_grid_spacing <= 1");
+  if (!(height_grid_position_spacing > 0 && height_grid_position_spacing <= 1))
+    return fail("height_grid_position_spacing = " + num(height_grid_position_spacing) + ". Violated constraint: 0 < height_grid_position_spacing <= 1");
   if (!(probability_floor > 0 && probability_floor < 0.5))
     return fail("probability_floor = " + num(probability_floor) + ". Violated constraint: 0 < probability_floor < 0.5");
+  const std::pair<const char*, int> refinements[] = {{"lattice_refinement", lattice_refinement}, {"lattice_refinement_5d", lattice_refinement_5d}};
+  for (const auto& [name, v] : refinements)
+    if (v < 1 || v > PermutohedralLattice::kMaxRefinement)
+      return fail(std::string(name) + " = " + std::to_string(v) + ". Violated constraint: 1 <= " + name +
+                  " <= " + std::to_string(PermutohedralLattice::kMaxRefinement));
   return true;
 }
 
@@ -39,6 +48,7 @@ Result<DenseCrf> DenseCrf::Create(const DenseCrfInput& input, const DenseCrfOpti
     return Status::InvalidInput("dense CRF: the normal image must be 3 channels of the RGB image's size");
   DenseCrf crf;
   crf.n_ = w * h;
+  crf.width_ = w, crf.height_ = h;
   crf.options_ = options;
   const size_t n = size_t(crf.n_);
   auto add = [&](double weight, int dims, auto&& fill) {
@@ -66,7 +76,29 @@ Result<DenseCrf> DenseCrf::Create(const DenseCrfInput& input, const DenseCrfOpti
     f[0] = x * sb, f[1] = y * sb;
     for (int c = 0; c < 3; ++c) f[2 + c] = input.normal->at(x, y, c) * sn;
   });
-  for (Kernel& k : crf.kernels_) k.lattice.Build(k.features.data(), crf.n_, k.dims);
+  for (Kernel& k : crf.kernels_) {
+    if (k.dims == 2 && options.exact_smoothness) {
+      // The smoothness kernel's features are (x, y) / theta_p for every pixel of the w x h grid: separable.
+      const int radius = int(std::ceil(5.0 * options.smoothness_scale_px));
+      k.grid_taps.resize(size_t(radius) + 1);
+      for (int t = 0; t <= radius; ++t) k.grid_taps[size_t(t)] = float(std::exp(-0.5 * (t * sp) * (t * sp)));
+      continue;
+    }
+    if (k.dims == 3 && options.height_grid_spacing > 0) {
+      const std::vector<double> spacing = {options.height_grid_position_spacing, options.height_grid_position_spacing, options.height_grid_spacing};
+      const int64_t cells = CubicGrid::CellsFor(k.features.data(), crf.n_, 3, spacing);
+      if (cells >= 0 && cells <= DenseCrfOptions::kMaxGridCells) {
+        k.cubic.Build(k.features.data(), crf.n_, 3, spacing);
+        k.on_cubic_grid = true;
+        continue;
+      }
+    }
+    const int refinement = k.dims > 3 ? options.lattice_refinement_5d : options.lattice_refinement;
+    k.lattice.Build(k.features.data(), crf.n_, k.dims, refinement);
+  }
+  // The normaliser of every kernel does not change between iterations: filter a channel of ones once.
+  const std::vector<float> ones(n, 1.f);
+  for (Kernel& k : crf.kernels_) crf.Filter(k, ones, 1, &k.normaliser);
   return crf;
 }
 
@@ -90,6 +122,49 @@ void DenseCrf::BruteForceMessage(int i, const std::vector<float>& q, int m, floa
   }
 }
 
+void DenseCrf::Filter(const Kernel& k, const std::vector<float>& in, int m1, std::vector<float>* out) const {
+  if (k.on_cubic_grid) {
+    k.cubic.Filter(in.data(), m1, out);
+    return;
+  }
+  if (k.grid_taps.empty()) {
+    k.lattice.Filter(in.data(), m1, out);
+    return;
+  }
+  // Exact Gaussian on the pixel grid, truncated at |dx|, |dy| > R: rows, then columns, each pass parallel
+  // over rows and vectorised along the row (tap by tap). out_i = sum_j g(x_i - x_j) g(y_i - y_j) in_j over
+  // the image (pixels outside it are absent, as in the exact sum).
+  const int w = width_, h = height_, radius = int(k.grid_taps.size()) - 1;
+  const size_t m = size_t(m1), row = size_t(w) * m;
+  const float* g = k.grid_taps.data();
+  std::vector<float> tmp(in.size());
+  out->assign(in.size(), 0.f);
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, 4), [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y < range.end(); ++y) {
+      const float* src = &in[size_t(y) * row];
+      float* dst = &tmp[size_t(y) * row];
+      for (size_t c = 0; c < row; ++c) dst[c] = g[0] * src[c];
+      for (int t = 1; t <= radius && t < w; ++t) {
+        const size_t shift = size_t(t) * m;
+        const float gt = g[t];
+        for (size_t c = 0; c + shift < row; ++c) dst[c] += gt * src[c + shift];  // x_j = x + t
+        for (size_t c = shift; c < row; ++c) dst[c] += gt * src[c - shift];      // x_j = x - t
+      }
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, 4), [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y < range.end(); ++y) {
+      float* dst = &(*out)[size_t(y) * row];
+      const int lo = std::max(0, y - radius), hi = std::min(h - 1, y + radius);
+      for (int yj = lo; yj <= hi; ++yj) {
+        const float gw = g[std::abs(yj - y)];
+        const float* s = &tmp[size_t(yj) * row];
+        for (size_t c = 0; c < row; ++c) dst[c] += gw * s[c];
+      }
+    }
+  });
+}
+
 void DenseCrf::Messages(const std::vector<float>& q, int m, bool brute_force, std::vector<float>* out) const {
   out->assign(size_t(n_) * size_t(m), 0.f);
   if (brute_force) {
@@ -98,20 +173,16 @@ void DenseCrf::Messages(const std::vector<float>& q, int m, bool brute_force, st
     });
     return;
   }
-  // One extra channel of ones gives the normaliser Z_i = sum_j k(f_i, f_j) in the same filtering pass.
-  const size_t n = size_t(n_), m1 = size_t(m) + 1;
-  std::vector<float> in(n * m1), filtered;
-  for (size_t i = 0; i < n; ++i) {
-    for (size_t l = 0; l < size_t(m); ++l) in[i * m1 + l] = q[i * size_t(m) + l];
-    in[i * m1 + size_t(m)] = 1.f;
-  }
+  // The normalisers Z_i = sum_j k(f_i, f_j) were filtered once in Create.
+  const size_t n = size_t(n_);
+  std::vector<float> filtered;
   for (const Kernel& k : kernels_) {
-    k.lattice.Filter(in.data(), int(m1), &filtered);
+    Filter(k, q, m, &filtered);
     const float w = float(k.weight);
     for (size_t i = 0; i < n; ++i) {
-      const float z = filtered[i * m1 + size_t(m)];
+      const float z = k.normaliser[i];
       if (!(z > 0)) continue;
-      for (size_t l = 0; l < size_t(m); ++l) (*out)[i * size_t(m) + l] += w * std::max(0.f, filtered[i * m1 + l]) / z;
+      for (size_t l = 0; l < size_t(m); ++l) (*out)[i * size_t(m) + l] += w * std::max(0.f, filtered[i * size_t(m) + l]) / z;
     }
   }
 }

@@ -19,9 +19,13 @@
 // and normaliser. The sums include j = i (as the lattice does).
 // Mean-field update (parallel over pixels, K&K 2011 Algorithm 1):
 //   Q_i(l) ∝ exp(-psi_u(l) + sum_m w_m sum_j k~_m(i, j) Q_j(l)).
-// The message passing is a Gaussian filter: permutohedral lattice (O(n), permutohedral.h) by default, or
-// the exact O(n^2) sum for tests and benchmarks. Pixels without depth take height 0 and normal 0 in the
-// height and normal kernels.
+// The message passing is a Gaussian filter. The smoothness kernel depends on pixel position only and the
+// points are the view's full pixel grid (every pixel is a point), so it is summed exactly by a separable
+// convolution on the grid (two 1-D passes, radius ceil(5 theta_p); the truncated tail moves a normalised
+// message by at most 2 * 2 Phi(-5) ~ 2.3e-6). The height kernel (3-D) is filtered on a regular grid with
+// cubic interpolation (cubic_grid.h), the 5-D appearance and normal kernels on the permutohedral lattice
+// (O(n), permutohedral.h). `brute_force` takes the exact O(n^2) sums of all four (tests and benchmarks).
+// Pixels without depth take height 0 and normal 0 in the height and normal kernels.
 #pragma once
 
 #include <string>
@@ -29,6 +33,7 @@
 
 #include "core/image.h"
 #include "core/status.h"
+#include "objects/cubic_grid.h"
 #include "objects/permutohedral.h"
 
 namespace semvox {
@@ -45,6 +50,24 @@ struct DenseCrfOptions {
   double normal_weight = 2.0;           // w4. >= 0.
   double normal_scale = 0.3;            // theta_n, on unit normals. > 0.
   double probability_floor = 1e-4;      // Unary probabilities are clamped below by this. (0, 0.5).
+  // Smoothness kernel by the exact separable convolution on the pixel grid (default) or, false, by a 2-D
+  // permutohedral lattice at lattice_refinement (kept to measure the lattice against it).
+  bool exact_smoothness = true;
+  // Height kernel (3-D: x, y / theta_beta, h / theta_q) on a regular grid with cubic interpolation
+  // (cubic_grid.h), node spacing in standard deviations along the height and the two position axes, (0, 1];
+  // height_grid_spacing 0: on the permutohedral lattice at lattice_refinement. A grid above kMaxGridCells
+  // nodes (a height range above ~50 m at 640 x 480) takes the lattice.
+  double height_grid_spacing = 0.25;
+  double height_grid_position_spacing = 0.5;
+  static constexpr int64_t kMaxGridCells = int64_t(1) << 21;  // ~300 MB of splat and blur buffers at m = 3.
+  // PermutohedralLattice::Build's refinement r (lattice s = sqrt((3r + 1) / 4) times finer, r blur passes):
+  // for the height (3-D) kernel (and the smoothness kernel without exact_smoothness), and for the
+  // appearance and normal (5-D) kernels, whose refined lattices cost far more vertices (the image's 2-D
+  // manifold thickened in 3 dimensions). [1, 64]. With the default filters above, refinement 1 / 1 keeps
+  // the mean-field within 1e-3 of brute force (7.1e-4) on the check image (objects/dense_crf_check.h;
+  // docs/objects.md has the table by setting).
+  int lattice_refinement = 1;
+  int lattice_refinement_5d = 1;
 
   bool Check(std::string* error) const;
 };
@@ -75,8 +98,14 @@ class DenseCrf {
     int dims = 0;
     std::vector<float> features;  // n x dims, divided by the standard deviations.
     PermutohedralLattice lattice;
+    std::vector<float> grid_taps;  // Non-empty: exact separable convolution on the pixel grid, taps g[0..R].
+    bool on_cubic_grid = false;    // Filtered by `cubic` instead of `lattice`.
+    std::vector<float> normaliser;  // n: Z_i = sum_j k(f_i, f_j), filtered once by Create.
+    CubicGrid cubic;
   };
-  int n_ = 0;
+  // Filters `in` (n x m1) with kernel k (separable grid convolution, cubic grid or lattice) into `out`.
+  void Filter(const Kernel& k, const std::vector<float>& in, int m1, std::vector<float>* out) const;
+  int n_ = 0, width_ = 0, height_ = 0;
   DenseCrfOptions options_;
   std::vector<Kernel> kernels_;
 };

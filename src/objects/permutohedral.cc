@@ -3,9 +3,11 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 namespace semvox {
 namespace {
@@ -64,10 +66,15 @@ class KeyTable {
 
 }  // namespace
 
-void PermutohedralLattice::Build(const float* features, int n, int d) {
+double PermutohedralLattice::RefinementScale(int refinement) { return std::sqrt((3.0 * refinement + 1.0) / 4.0); }
+
+void PermutohedralLattice::Build(const float* features, int n, int d, int refinement) {
   if (d < 1 || d > 16 || n < 0) throw std::invalid_argument("PermutohedralLattice::Build: need n >= 0 and 1 <= d <= 16");
+  if (refinement < 1 || refinement > kMaxRefinement)
+    throw std::invalid_argument("PermutohedralLattice::Build: need 1 <= refinement <= " + std::to_string(kMaxRefinement));
   n_ = n;
   d_ = d;
+  refinement_ = refinement;
   const int d1 = d + 1;
   offset_.assign(size_t(n) * size_t(d1), 0);
   barycentric_.assign(size_t(n) * size_t(d1), 0.f);
@@ -76,11 +83,12 @@ void PermutohedralLattice::Build(const float* features, int n, int d) {
   // feature vector in the hyperplane sum x = 0 (Adams et al. 2010, Sec. 3.1): the blur and interpolation
   // then approximate a Gaussian of unit standard deviation in feature space.
   std::vector<double> scale(static_cast<size_t>(d));
-  const double inv_std = std::sqrt(2.0 / 3.0) * d1;
+  const double inv_std = std::sqrt(2.0 / 3.0) * d1 * RefinementScale(refinement);
   for (int i = 0; i < d; ++i) scale[size_t(i)] = inv_std / std::sqrt(double(i + 1) * double(i + 2));
 
   // Points are embedded in parallel, then their vertices are inserted sequentially (deterministic order).
   std::vector<int16_t> keys(size_t(n) * size_t(d1) * size_t(d));
+  std::atomic<bool> out_of_range{false};
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 1024), [&](const tbb::blocked_range<int>& range) {
     std::vector<double> elevated(static_cast<size_t>(d1)), bary(static_cast<size_t>(d1) + 1);
     std::vector<int> rem0(static_cast<size_t>(d1)), rank(static_cast<size_t>(d1));
@@ -94,6 +102,9 @@ void PermutohedralLattice::Build(const float* features, int n, int d) {
         sm += cf;
       }
       elevated[0] = sm;
+      for (int i = 0; i <= d; ++i)
+        if (!(std::abs(elevated[size_t(i)]) < 28000.0)) out_of_range = true;  // Keys are int16 (NaN fails too); dilation moves a coordinate by <= 2 r d <= 2048.
+      if (out_of_range) continue;
       // Closest remainder-0 point (all coordinates multiples of d+1), then the rank of every coordinate's
       // difference: the permutation that identifies the enclosing simplex.
       int sum = 0;
@@ -138,13 +149,33 @@ void PermutohedralLattice::Build(const float* features, int n, int d) {
           const int canonical = rank[size_t(i)] <= d - r ? r : r - d1;
           key[i] = int16_t(rem0[size_t(i)] + canonical);
         }
-        barycentric_[size_t(p) * size_t(d1) + size_t(r)] = float(bary[size_t(r)]);
+        barycentric_[size_t(p) * size_t(d1) + size_t(r)] = bary[size_t(r)];
       }
     }
   });
 
+  if (out_of_range)
+    throw std::invalid_argument("PermutohedralLattice::Build: features too large (|f| sqrt(2/3) (d+1) s must stay below 28000) or not finite");
   KeyTable table(d, size_t(n) * size_t(d1) / 2 + 16);
   for (size_t k = 0; k < size_t(n) * size_t(d1); ++k) offset_[k] = table.Find(&keys[k * size_t(d)], true);
+  // A refined lattice blurs r steps along each direction: it needs the vertices the blur's paths pass through
+  // (not only the corners of the points' simplices), else mass that leaves them is lost and the kernel is
+  // truncated. Dilate the vertex set in the blur's order: before direction j's r passes, by r steps along j.
+  if (refinement > 1) {
+    std::vector<int16_t> key(static_cast<size_t>(d)), nb(static_cast<size_t>(d));
+    for (int j = 0; j <= d; ++j)
+      for (int pass = 0; pass < refinement; ++pass) {
+        const size_t count = table.size();
+        for (size_t v = 0; v < count; ++v) {
+          std::memcpy(key.data(), table.key(v), sizeof(int16_t) * size_t(d));
+          for (int sign = -1; sign <= 1; sign += 2) {
+            for (int k = 0; k < d; ++k) nb[size_t(k)] = int16_t(key[size_t(k)] + sign);
+            if (j < d) nb[size_t(j)] = int16_t(key[size_t(j)] - sign * d);
+            table.Find(nb.data(), true);
+          }
+        }
+      }
+  }
   num_vertices_ = int(table.size());
 
   // Neighbours along each lattice direction j: key + 1 - (d+1) e_j and key - 1 + (d+1) e_j (for j = d the
@@ -173,46 +204,55 @@ void PermutohedralLattice::Build(const float* features, int n, int d) {
 void PermutohedralLattice::Filter(const float* in, int m, std::vector<float>* out) const {
   const int d1 = d_ + 1;
   const size_t L = size_t(num_vertices_);
-  std::vector<float> values((L + 1) * size_t(m), 0.f), next((L + 1) * size_t(m), 0.f);
+  // Vertex values in double: a refined lattice blurs `refinement` times along each direction, and the
+  // mean-field normaliser divides two filtered sums.
+  std::vector<double> values(L * size_t(m), 0.0), next(L * size_t(m), 0.0);
   // Splat (sequential: points share vertices).
   for (int p = 0; p < n_; ++p) {
     const float* v = in + size_t(p) * size_t(m);
     for (int r = 0; r < d1; ++r) {
       const size_t k = size_t(p) * size_t(d1) + size_t(r);
-      float* dst = &values[size_t(offset_[k]) * size_t(m)];
-      const float w = barycentric_[k];
+      double* dst = &values[size_t(offset_[k]) * size_t(m)];
+      const double w = barycentric_[k];
       for (int c = 0; c < m; ++c) dst[c] += w * v[c];
     }
   }
-  // Blur with [1 2 1] / 4 along each of the d+1 directions (mass preserving; missing neighbours are 0).
+  // Blur with [1 2 1] / 4, `refinement` times along each of the d+1 directions (mass preserving; missing
+  // neighbours are 0).
   for (int j = 0; j < d1; ++j) {
     const int32_t* minus = &neighbour_minus_[size_t(j) * L];
     const int32_t* plus = &neighbour_plus_[size_t(j) * L];
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, L, 4096), [&](const tbb::blocked_range<size_t>& range) {
-      for (size_t v = range.begin(); v < range.end(); ++v) {
-        const float* self = &values[v * size_t(m)];
-        const float* a = minus[v] >= 0 ? &values[size_t(minus[v]) * size_t(m)] : nullptr;
-        const float* b = plus[v] >= 0 ? &values[size_t(plus[v]) * size_t(m)] : nullptr;
-        float* dst = &next[v * size_t(m)];
-        for (int c = 0; c < m; ++c) dst[c] = 0.5f * self[c] + 0.25f * ((a ? a[c] : 0.f) + (b ? b[c] : 0.f));
-      }
-    });
-    values.swap(next);
+    for (int pass = 0; pass < refinement_; ++pass) {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, L, 4096), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t v = range.begin(); v < range.end(); ++v) {
+          const double* self = &values[v * size_t(m)];
+          const double* a = minus[v] >= 0 ? &values[size_t(minus[v]) * size_t(m)] : nullptr;
+          const double* b = plus[v] >= 0 ? &values[size_t(plus[v]) * size_t(m)] : nullptr;
+          double* dst = &next[v * size_t(m)];
+          for (int c = 0; c < m; ++c) dst[c] = 0.5 * self[c] + 0.25 * ((a ? a[c] : 0.0) + (b ? b[c] : 0.0));
+        }
+      });
+      values.swap(next);
+    }
   }
   // Slice, scaled so that a uniform density rho of points gives rho (2 pi)^{d/2}, the integral of the unit
-  // Gaussian: one lattice vertex holds the mass of (3/2)^{d/2} / sqrt(d+1) feature-space volume (the lattice
-  // (d+1) A*_d has covolume (d+1)^d / sqrt(d+1), shrunk by the elevation scale sqrt(2/3) (d+1) per axis).
-  const float norm = float(std::pow(4.0 * M_PI / 3.0, 0.5 * d_) * std::sqrt(double(d1)));
+  // Gaussian: one lattice vertex holds the mass of (3/2)^{d/2} / sqrt(d+1) / s^d feature-space volume (the
+  // lattice (d+1) A*_d has covolume (d+1)^d / sqrt(d+1), shrunk by the elevation scale sqrt(2/3) (d+1) s
+  // per axis).
+  const double norm = std::pow(4.0 * M_PI / 3.0, 0.5 * d_) * std::sqrt(double(d1)) * std::pow(RefinementScale(refinement_), d_);
   out->assign(size_t(n_) * size_t(m), 0.f);
   tbb::parallel_for(tbb::blocked_range<int>(0, n_, 1024), [&](const tbb::blocked_range<int>& range) {
+    std::vector<double> acc(static_cast<size_t>(m));
     for (int p = range.begin(); p < range.end(); ++p) {
-      float* dst = &(*out)[size_t(p) * size_t(m)];
+      std::fill(acc.begin(), acc.end(), 0.0);
       for (int r = 0; r < d1; ++r) {
         const size_t k = size_t(p) * size_t(d1) + size_t(r);
-        const float* src = &values[size_t(offset_[k]) * size_t(m)];
-        const float w = barycentric_[k] * norm;
-        for (int c = 0; c < m; ++c) dst[c] += w * src[c];
+        const double* src = &values[size_t(offset_[k]) * size_t(m)];
+        const double w = double(barycentric_[k]) * norm;
+        for (int c = 0; c < m; ++c) acc[size_t(c)] += w * src[c];
       }
+      float* dst = &(*out)[size_t(p) * size_t(m)];
+      for (int c = 0; c < m; ++c) dst[c] = float(acc[size_t(c)]);
     }
   });
 }

@@ -36,8 +36,8 @@ TEST(SupportTruth, FloorIsNeverSupportAndSupportFacesUp) {
 
 // The committed model (trained by `semvox train` on seeds 0-39) on validation apartment 100, whose
 // rooms hold tables, counters, shelves and desks on a floor at z = 0 (23 views): support recall >= 0.70 and
-// IoU >= 0.38 with the dense CRF (measured 0.809 / 0.463; the paper: 59.4 / 39.6 on its lab set), clutter
-// recall >= 0.10 and IoU >= 0.06 (measured 0.169 / 0.104), and the CRF does not lose more than 5 points
+// IoU >= 0.38 with the dense CRF (measured 0.809 / 0.464; the paper: 59.4 / 39.6 on its lab set), clutter
+// recall >= 0.10 and IoU >= 0.06 (measured 0.178 / 0.108), and the CRF does not lose more than 5 points
 // of support recall against the SVM alone (0.836).
 TEST(SupportClutterClassifier, FindsSupportSurfacesInAGeneratedApartment) {
   Result<SupportClutterClassifier> clf = SupportClutterClassifier::Load(kModel, SupportClutterOptions{});
