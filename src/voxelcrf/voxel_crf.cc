@@ -157,62 +157,70 @@ bool VoxelCrfOptions::Check(std::string* error) const {
 // ---------------------------------------------------------------------------------------------------------
 // Visibility (Eq. 9).
 
-std::vector<int32_t> ComputeVisibility(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev,
-                                       const std::vector<int>& labels, const std::vector<float>* starts) {
-  std::vector<int32_t> out(ev.rays.size(), -1);
+namespace {
+
+// Calls walk(k, ray, origin, end, traverse) for every ray k of `ev`, in parallel (TBB); traverse(from, end,
+// visitor) is TraverseGrid over `grid`.
+template <typename Walk>
+void ForEachRay(const VoxelGrid& grid, const VoxelEvidence& ev, Walk&& walk) {
   const int okey[3] = {grid.origin_key()[0], grid.origin_key()[1], grid.origin_key()[2]};
   const int dims[3] = {grid.dims()[0], grid.dims()[1], grid.dims()[2]};
+  auto traverse = [&](const Eigen::Vector3f& from, const Eigen::Vector3f& end, auto&& visit) {
+    TraverseGrid<false>(from, end, grid.resolution(), okey, dims, visit);
+  };
   tbb::parallel_for(tbb::blocked_range<size_t>(0, ev.rays.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t k = r.begin(); k != r.end(); ++k) {
       const EvidenceRay& ray = ev.rays[k];
       const Eigen::Vector3f& o = ev.origins[size_t(ray.origin)];
-      const Eigen::Vector3f end = o + ray.direction * ray.max_t;
-      Eigen::Vector3f from = o;
-      if (starts) {
-        const float t = (*starts)[k];
-        if (t < 0) continue;  // Blocked (or out of the grid) before any node: -1 for every labelling.
-        from = o + ray.direction * t;
-      }
-      int32_t found = -1;
-      TraverseGrid<false>(from, end, grid.resolution(), okey, dims, [&](size_t idx) {
-        const int32_t node = nodes.node_of_voxel[idx];
-        if (node >= 0) {
-          if (labels[size_t(node)] != 0) {
-            found = node;
-            return false;
-          }
-          return true;
-        }
-        return grid.state(idx) != VoxelState::kOccupied;  // An occupied voxel outside the CRF blocks the ray.
-      });
-      out[k] = found;
+      walk(k, ray, o, Eigen::Vector3f(o + ray.direction * ray.max_t), traverse);
     }
+  });
+}
+
+}  // namespace
+
+std::vector<int32_t> ComputeVisibility(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev,
+                                       const std::vector<int>& labels, const std::vector<float>* starts) {
+  std::vector<int32_t> out(ev.rays.size(), -1);
+  ForEachRay(grid, ev, [&](size_t k, const EvidenceRay& ray, const Eigen::Vector3f& o, const Eigen::Vector3f& end, auto&& traverse) {
+    Eigen::Vector3f from = o;
+    if (starts) {
+      const float t = (*starts)[k];
+      if (t < 0) return;  // Blocked (or out of the grid) before any node: -1 for every labelling.
+      from = o + ray.direction * t;
+    }
+    int32_t found = -1;
+    traverse(from, end, [&](size_t idx) {
+      const int32_t node = nodes.node_of_voxel[idx];
+      if (node >= 0) {
+        if (labels[size_t(node)] != 0) {
+          found = node;
+          return false;
+        }
+        return true;
+      }
+      return grid.state(idx) != VoxelState::kOccupied;  // An occupied voxel outside the CRF blocks the ray.
+    });
+    out[k] = found;
   });
   return out;
 }
 
 std::vector<float> ComputeRayStarts(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev) {
   std::vector<float> out(ev.rays.size(), -1.f);
-  const int okey[3] = {grid.origin_key()[0], grid.origin_key()[1], grid.origin_key()[2]};
-  const int dims[3] = {grid.dims()[0], grid.dims()[1], grid.dims()[2]};
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, ev.rays.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t k = r.begin(); k != r.end(); ++k) {
-      const EvidenceRay& ray = ev.rays[k];
-      const Eigen::Vector3f& o = ev.origins[size_t(ray.origin)];
-      const Eigen::Vector3f end = o + ray.direction * ray.max_t;
-      double previous = -1;  // Entry distance of the cell before the current one.
-      float start = -1.f;
-      TraverseGrid<false>(o, end, grid.resolution(), okey, dims, [&](size_t idx, double t) {
-        if (nodes.node_of_voxel[idx] >= 0) {
-          start = previous < 0 ? 0.f : float(0.5 * (previous + t));
-          return false;
-        }
-        if (grid.state(idx) == VoxelState::kOccupied) return false;
-        previous = t;
-        return true;
-      });
-      out[k] = start;
-    }
+  ForEachRay(grid, ev, [&](size_t k, const EvidenceRay&, const Eigen::Vector3f& o, const Eigen::Vector3f& end, auto&& traverse) {
+    double previous = -1;  // Entry distance of the cell before the current one.
+    float start = -1.f;
+    traverse(o, end, [&](size_t idx, double t) {
+      if (nodes.node_of_voxel[idx] >= 0) {
+        start = previous < 0 ? 0.f : float(0.5 * (previous + t));
+        return false;
+      }
+      if (grid.state(idx) == VoxelState::kOccupied) return false;
+      previous = t;
+      return true;
+    });
+    out[k] = start;
   });
   return out;
 }
