@@ -3,15 +3,19 @@
 //   support_bench [--model models/support_clutter.svm] [--seed 100] [--repeats 3] [--refinement 1] [--refinement-5d 1]
 //                 [--small-refinement 1] [--small-refinement-5d 1] [--exact-smoothness 1] [--height-grid 0.25]
 //                 [--height-grid-position 0.5] [--small-only 0|1|2 (2: the check image only)]
+//   support_bench --kernel-shape D [--refinement-5d R]   (the lattice's kernel between two points in D dimensions)
 //   support_bench --train OUT.svm [--train-seeds 0-39] [--val-seeds 100-109]   (same as `semvox train`'s step)
 //
 // 0. The check image of objects/dense_crf_check.h (40 x 30, the settings of
 //    DenseCrf.PermutohedralMeanFieldMatchesBruteForce, i.e. the pipeline's filters, unless overridden by
 //    --small-refinement[-5d], --exact-smoothness, --height-grid[-position]): max and mean |dQ|, times.
 // 1. Small image (64 x 48, a generated validation view): mean-field marginals with the lattice and with
-//    exact O(n^2) kernel sums; max and mean |dQ|, argmax disagreements, both times (same refinements as 0).
+//    exact O(n^2) kernel sums; max and mean |dQ|, argmax disagreements, both times (same refinements as 0);
+//    then each kernel's first normalised message alone, fast against exact, and brute force against itself
+//    with the unary perturbed by 1e-4 (the mean-field's conditioning).
 // 2. 640 x 480: the lattice's mean-field time; brute force's time extrapolated from the exact messages of
-//    `--sample` pixels (n^2 is ~10^11 kernel evaluations per kernel and iteration at this size).
+//    `--sample` pixels (n^2 is ~10^11 kernel evaluations per kernel and iteration at this size), and the
+//    fast first message against those exact ones.
 // 3. Per-view cost of the whole classifier at 640 x 480 (superpixels, features, SVM, CRF), when a model is given.
 // A/B runs are interleaved within one process; the machine is shared, so read ratios, not absolute times.
 #include <chrono>
@@ -64,7 +68,6 @@ std::vector<float> Unary(const RenderedView& view, const Image<int32_t>& truth, 
   const size_t n = truth.data.size();
   std::vector<float> p(n * kNumSupportClasses);
   if (clf) {
-    SupportClutterOptions o = clf->options();
     Result<SupportClutterView> out = clf->Classify(view);
     if (out.ok()) {
       for (size_t i = 0; i < n; ++i)
@@ -83,6 +86,33 @@ std::vector<float> Unary(const RenderedView& view, const Image<int32_t>& truth, 
   return p;
 }
 
+// The lattice's kernel between two points at feature distance D (random direction, random placement;
+// 3000 draws per D): mean and standard deviation of the filtered weight against exp(-D^2 / 2).
+void KernelShape(int d, int refinement) {
+  std::mt19937 rng(1);
+  std::normal_distribution<float> gauss;
+  std::uniform_real_distribution<float> place(0.f, 50.f);
+  for (double D : {0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5}) {
+    double s = 0, s2 = 0;
+    const int draws = 3000;
+    for (int t = 0; t < draws; ++t) {
+      std::vector<float> f(static_cast<size_t>(2 * d)), e(static_cast<size_t>(d));
+      double norm = 0;
+      for (float& c : e) c = gauss(rng), norm += double(c) * c;
+      for (int c = 0; c < d; ++c) f[size_t(c)] = place(rng), f[size_t(d + c)] = f[size_t(c)] + float(D * e[size_t(c)] / std::sqrt(norm));
+      PermutohedralLattice lattice;
+      lattice.Build(f.data(), 2, d, refinement);
+      const std::vector<float> in = {0.f, 1.f};
+      std::vector<float> out;
+      lattice.Filter(in.data(), 1, &out);
+      s += out[0], s2 += double(out[0]) * out[0];
+    }
+    const double mean = s / draws, exact = std::exp(-0.5 * D * D);
+    std::printf("lattice kernel d %d, refinement %d, two points at distance %.1f: exact %.4f, lattice mean %.4f (x%.3f), sd %.4f\n", d, refinement, D,
+                exact, mean, mean / exact, std::sqrt(std::max(0.0, s2 / draws - mean * mean)));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -90,7 +120,7 @@ int main(int argc, char** argv) {
   uint64_t seed = 100;
   int repeats = 3, sample = 400, region_px = 0;
   double crf_weight_scale = 1.0, svm_c = 0, svm_gamma = 0;
-  int other_rows = 0, balance = -1, small_scaled = 0, small_only = 0;
+  int other_rows = 0, balance = -1, small_scaled = 0, small_only = 0, kernel_shape = 0;
   // Lattice refinements (DenseCrfOptions::lattice_refinement, lattice_refinement_5d) for the small-image
   // comparisons and for the 640 x 480 runs, and the smoothness / height filters (all runs); default: the
   // pipeline's, DenseCrfOptions{}, which the test uses too.
@@ -114,6 +144,7 @@ int main(int argc, char** argv) {
     else if (a == "--balance") balance = std::atoi(argv[i + 1]);
     else if (a == "--small-scaled") small_scaled = std::atoi(argv[i + 1]);
     else if (a == "--small-only") small_only = std::atoi(argv[i + 1]);
+    else if (a == "--kernel-shape") kernel_shape = std::atoi(argv[i + 1]);
     else if (a == "--refinement") refine = std::atoi(argv[i + 1]);
     else if (a == "--refinement-5d") refine_5d = std::atoi(argv[i + 1]);
     else if (a == "--small-refinement") refine_small = std::atoi(argv[i + 1]);
@@ -125,6 +156,10 @@ int main(int argc, char** argv) {
     else if (a == "--train-seeds") train_seeds = argv[i + 1];
     else if (a == "--val-seeds") val_seeds = argv[i + 1];
     else { std::fprintf(stderr, "support_bench: unknown option %s\n", a.c_str()); return 2; }
+  }
+  if (kernel_shape > 0) {
+    KernelShape(kernel_shape, refine_5d);
+    return 0;
   }
   if (!proposals_out.empty()) {
     Result<ViewClassifier> nyu4 = ViewClassifier::Load(nyu4_prefix, ViewClassifierOptions{});
@@ -237,6 +272,36 @@ int main(int argc, char** argv) {
                 "|dQ| max %.2e mean %.2e, argmax disagreements %d; lattice %.2f ms, brute force %.1f ms (x%.0f)\n",
                 n, o.iterations, clf ? "SVM" : "noisy truth", o.lattice_refinement, o.lattice_refinement_5d, o.position_scale_px, o.smoothness_scale_px, undecided, max_d, mean_d, disagree,
                 t_fast, t_brute, t_brute / t_fast);
+    // The filters alone: one normalised message per kernel (its weight set to 1, the others 0) from the
+    // unary, fast against exact. And the conditioning of the mean-field itself: brute force again with
+    // every unary probability scaled by 1 + 1e-4 u, u uniform in [-1, 1] (seed 3), then renormalised.
+    const char* names[] = {"appearance", "smoothness", "height", "normal"};
+    for (int kernel = 0; kernel < 4; ++kernel) {
+      DenseCrfOptions ok = o;
+      double* w[] = {&ok.appearance_weight, &ok.smoothness_weight, &ok.height_weight, &ok.normal_weight};
+      for (int k = 0; k < 4; ++k) *w[k] = k == kernel ? 1.0 : 0.0;
+      Result<DenseCrf> one = DenseCrf::Create({&view.rgb, &height, &view.normal}, ok);
+      std::vector<float> mf, mb;
+      one->Messages(p, kNumSupportClasses, false, &mf);
+      one->Messages(p, kNumSupportClasses, true, &mb);
+      double mx = 0, mn = 0;
+      for (size_t i = 0; i < mf.size(); ++i) mx = std::max(mx, double(std::abs(mf[i] - mb[i]))), mn += std::abs(mf[i] - mb[i]) / double(mf.size());
+      std::printf("  one normalised %s message from the unary: |dm| max %.2e mean %.2e\n", names[kernel], mx, mn);
+    }
+    {
+      std::mt19937 rng(3);
+      std::uniform_real_distribution<float> u(-1.f, 1.f);
+      std::vector<float> pp = p;
+      for (size_t i = 0; i < n; ++i) {
+        float s = 0;
+        for (int c = 0; c < kNumSupportClasses; ++c) s += (pp[i * 3 + size_t(c)] *= 1.f + 1e-4f * u(rng));
+        for (int c = 0; c < kNumSupportClasses; ++c) pp[i * 3 + size_t(c)] /= s;
+      }
+      const std::vector<float> brute2 = crf->MeanField(pp, kNumSupportClasses, true);
+      double mx = 0, mn = 0;
+      for (size_t i = 0; i < brute.size(); ++i) mx = std::max(mx, double(std::abs(brute2[i] - brute[i]))), mn += std::abs(brute2[i] - brute[i]) / double(brute.size());
+      std::printf("  brute force with the unary perturbed by 1e-4 (relative): |dQ| max %.2e mean %.2e\n", mx, mn);
+    }
   }
   if (small_only) return 0;
   // 2. 640 x 480.
@@ -260,10 +325,21 @@ int main(int argc, char** argv) {
     }
     // Brute force: exact messages of `sample` evenly spread pixels, scaled to all pixels and iterations.
     const int n = crf->num_pixels();
-    std::vector<float> out(kNumSupportClasses);
     t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < sample; ++k) crf->BruteForceMessage(int(int64_t(k) * n / sample), p, kNumSupportClasses, out.data());
+    std::vector<float> exact(size_t(sample) * kNumSupportClasses);
+    for (int k = 0; k < sample; ++k) crf->BruteForceMessage(int(int64_t(k) * n / sample), p, kNumSupportClasses, &exact[size_t(k) * kNumSupportClasses]);
     const double t_brute = Ms(t0) / sample * n * o.iterations;
+    // The filters' accuracy at full size: the fast messages from the unary at the sampled pixels against
+    // their exact messages (sum over the four kernels of w_m times the normalised message).
+    std::vector<float> fast;
+    crf->Messages(p, kNumSupportClasses, false, &fast);
+    double max_dm = 0, mean_dm = 0;
+    for (int k = 0; k < sample; ++k)
+      for (int c = 0; c < kNumSupportClasses; ++c) {
+        const double dm = std::abs(fast[size_t(int64_t(k) * n / sample) * kNumSupportClasses + size_t(c)] - exact[size_t(k) * kNumSupportClasses + size_t(c)]);
+        max_dm = std::max(max_dm, dm), mean_dm += dm / double(sample * kNumSupportClasses);
+      }
+    std::printf("640x480: first message (all kernels, weighted) at the %d sampled pixels, fast against exact: |dm| max %.2e mean %.2e\n", sample, max_dm, mean_dm);
     std::printf("640x480 (%d px, %d iterations, refinement %d / 5-D %d): lattice build %.0f ms + mean-field %.0f ms; brute force (one core, "
                 "extrapolated from %d pixels) %.0f s: speed-up x%.0f\n",
                 n, o.iterations, o.lattice_refinement, o.lattice_refinement_5d, t_build, t_fast, sample, t_brute / 1000, t_brute / (t_build + t_fast));
