@@ -158,6 +158,10 @@ int main(int argc, char** argv) {
     else { std::fprintf(stderr, "support_bench: unknown option %s\n", a.c_str()); return 2; }
   }
   if (kernel_shape > 0) {
+    if (kernel_shape > 16 || refine_5d < 1 || refine_5d > PermutohedralLattice::kMaxRefinement) {
+      std::fprintf(stderr, "support_bench: --kernel-shape takes 1..16 dimensions and --refinement-5d 1..%d\n", PermutohedralLattice::kMaxRefinement);
+      return 2;
+    }
     KernelShape(kernel_shape, refine_5d);
     return 0;
   }
@@ -242,6 +246,7 @@ int main(int argc, char** argv) {
     if (small_scaled) o.position_scale_px = o.position_scale_px * 64 / 640, o.smoothness_scale_px = 1.0;
     const ImageF32 height = PixelHeights(view);
     Result<DenseCrf> crf = DenseCrf::Create({&view.rgb, &height, &view.normal}, o);
+    if (!crf.ok()) { std::fprintf(stderr, "support_bench: %s\n", crf.status().message().c_str()); return 1; }
     const std::vector<float> p = Unary(view, truth, clf.get());
     double t_fast = 0, t_brute = 0;
     std::vector<float> fast, brute;
@@ -281,6 +286,7 @@ int main(int argc, char** argv) {
       double* w[] = {&ok.appearance_weight, &ok.smoothness_weight, &ok.height_weight, &ok.normal_weight};
       for (int k = 0; k < 4; ++k) *w[k] = k == kernel ? 1.0 : 0.0;
       Result<DenseCrf> one = DenseCrf::Create({&view.rgb, &height, &view.normal}, ok);
+      if (!one.ok()) { std::fprintf(stderr, "support_bench: %s\n", one.status().message().c_str()); return 1; }
       std::vector<float> mf, mb;
       one->Messages(p, kNumSupportClasses, false, &mf);
       one->Messages(p, kNumSupportClasses, true, &mb);
@@ -315,6 +321,7 @@ int main(int argc, char** argv) {
     const ImageF32 height = PixelHeights(view);
     auto t0 = std::chrono::steady_clock::now();
     Result<DenseCrf> crf = DenseCrf::Create({&view.rgb, &height, &view.normal}, o);
+    if (!crf.ok()) { std::fprintf(stderr, "support_bench: %s\n", crf.status().message().c_str()); return 1; }
     const double t_build = Ms(t0);
     const std::vector<float> p = Unary(view, truth, clf.get());
     double t_fast = 0;
