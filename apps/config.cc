@@ -171,6 +171,35 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_INT_FIELD("semantic", semantic.crf.planes, min_voxels, 3, 1000000, "smallest plane piece, voxels"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf.planes, normal_angle_deg, 0.1, 45, "plane detection: normal tolerance, degrees"));
     // ---- end semantic ----
+    // ---- objects: support / clutter / other and generic object proposals (objects/support_stage.h) ----
+    auto flag = [](const char* key, const char* doc, bool SupportStageOptions::*member) {
+      Field b;
+      b.section = "objects";
+      b.key = key;
+      b.doc = doc;
+      b.choices = {"true", "false"};
+      b.get_str = [member](const PipelineConfig& c) { return std::string(c.objects.*member ? "true" : "false"); };
+      b.set_str = [member](PipelineConfig& c, const std::string& v) { c.objects.*member = v == "true"; };
+      return b;
+    };
+    f.push_back(flag("enabled", "classify support / clutter / other in every classification view (needs semantic.enabled): support_clutter.ply, support_clutter_topview.png",
+                     &SupportStageOptions::enabled));
+    f.push_back(flag("proposals", "also generic object proposals, merged across views: object_proposals.json", &SupportStageOptions::proposals));
+    {
+      Field crf;
+      crf.section = "objects";
+      crf.key = "use_crf";
+      crf.doc = "dense pixel CRF on the SVM's superpixel probabilities (false: the SVM's output)";
+      crf.choices = {"true", "false"};
+      crf.get_str = [](const PipelineConfig& c) { return std::string(c.objects.classifier.use_crf ? "true" : "false"); };
+      crf.set_str = [](PipelineConfig& c, const std::string& v) { c.objects.classifier.use_crf = v == "true"; };
+      f.push_back(crf);
+    }
+    f.push_back(SEMVOX_INT_FIELD("objects", objects.classifier.crf, iterations, 0, 100, "dense CRF mean-field iterations"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("objects", objects.fusion, min_label_probability, 0, 1, "a voxel is support / clutter only with at least this fused probability"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("objects", objects.proposal, min_score, 0, 1, "proposals scoring below this (the SVM's probability of an object) are dropped"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("objects", objects, merge_iou, 0.01, 1, "3D IoU at which proposals of different views merge"));
+    // ---- end objects ----
     return f;
   }();
   return kFields;
@@ -254,6 +283,7 @@ Status CheckConfig(const PipelineConfig& config) {
   if (!config.room_types.Check(&error)) return Status::InvalidInput("configuration: room_types." + error);
   if (!config.render.Check(&error)) return Status::InvalidInput("configuration: render." + error);
   if (!config.semantic.Check(&error)) return Status::InvalidInput("configuration: semantic." + error);
+  if (!config.objects.Check(&error)) return Status::InvalidInput("configuration: objects." + error);
   return Status::Ok();
 }
 

@@ -16,6 +16,7 @@
 #include "rooms/room_type_crf.h"
 #include "render/views.h"
 #include "apps/semantic_stage.h"
+#include "objects/support_stage.h"
 
 namespace semvox {
 
@@ -28,6 +29,7 @@ struct PipelineConfig {
   RoomTypeCrfOptions room_types;   // Section "room_types": the room-type CRF (rooms/room_type_crf.h).
   ViewsOptions render;  // Section "render": viewpoints and virtual views (render/views.h).
   SemanticStageOptions semantic;  // Section "semantic": classification views and the Voxel-CRF (apps/semantic_stage.h).
+  SupportStageOptions objects;    // Section "objects": support / clutter and object proposals (objects/support_stage.h).
 };
 
 // Applies the settings in `path` on top of `config`.

@@ -105,12 +105,14 @@ Status RunPipeline(const RunArgs& args) {
     if (!st.ok()) return st.status();
     semantic = std::move(st).value();
     if (args.onnx) semantic->SetOnnxModels(args.onnx.get());
-    SupportStageOptions so;
-    so.fusion.voxel_size_m = config.voxelize.voxel_size_m;
-    Result<std::unique_ptr<SupportClutterStage>> sup = SupportClutterStage::Create(so, models_dir);
-    if (!sup.ok()) return sup.status();
-    support = std::move(sup).value();
-    semantic->SetViewHook([&support](const RenderedView& view) { return support->AddView(view); });
+    if (config.objects.enabled) {
+      SupportStageOptions so = config.objects;
+      so.fusion.voxel_size_m = config.voxelize.voxel_size_m;
+      Result<std::unique_ptr<SupportClutterStage>> sup = SupportClutterStage::Create(so, models_dir);
+      if (!sup.ok()) return sup.status();
+      support = std::move(sup).value();
+      semantic->SetViewHook([&support](const RenderedView& view) { return support->AddView(view); });
+    }
   }
   SEMVOX_RETURN_IF_ERROR(RunViewsStage(renderer.value(), map, config.render, args.outdir, args.save_views, &views,
                                        semantic ? semantic->DepthSink() : ViewSink{}));
@@ -178,7 +180,7 @@ Status RunPipeline(const RunArgs& args) {
       if (!room_ids.ok()) return room_ids.status();
       SEMVOX_RETURN_IF_ERROR(semantic->Write(args.outdir, &room_ids.value(), config.occupancy.band_min_above_floor_m,
                                              config.occupancy.band_max_above_floor_m, occ.image));
-      SEMVOX_RETURN_IF_ERROR(support->Write(args.outdir, final_grid));
+      if (support) SEMVOX_RETURN_IF_ERROR(support->Write(args.outdir, final_grid));
       timing["semantic_exports"] = Seconds(t0);
     }
     rooms_summary = {{"method", RoomSegmentationMethodName(config.rooms.method)},
@@ -232,9 +234,10 @@ Status RunPipeline(const RunArgs& args) {
   if (semantic) s["semantic"] = semantic->Summary();
   if (support) {
     const SupportStageSummary ss = support->summary();
+    nlohmann::ordered_json files = nlohmann::ordered_json::array({"support_clutter.ply", "support_clutter_topview.png"});
+    if (config.objects.proposals) files.push_back("object_proposals.json");
     s["objects"] = {{"views", ss.views}, {"voxels", ss.voxels}, {"support_voxels", ss.support_voxels},
-                    {"clutter_voxels", ss.clutter_voxels}, {"proposals", ss.proposals},
-                    {"files", {"support_clutter.ply", "support_clutter_topview.png", "object_proposals.json"}}};
+                    {"clutter_voxels", ss.clutter_voxels}, {"proposals", ss.proposals}, {"files", files}};
   }
   s["warnings"] = TakeWarnings();
   timing["total"] = Seconds(t_all);

@@ -86,5 +86,36 @@ TEST(SemanticCli, GeneratedApartmentIsLabelledAboveTheStatedFloors) {
   EXPECT_GE(s["semantic"]["iterations"].size(), 1u);
 }
 
+// objects.enabled: false (docs/configuration.md) keeps the semantic outputs and drops the support / clutter
+// stage: none of its files, no "objects" in summary.json.
+TEST(SemanticCli, ObjectsSectionSwitchesTheSupportStageOff) {
+  testing::ScratchDir dir("semantic_cli_objects");
+  const std::string gt = dir.File("gt"), out = dir.File("out"), log = dir.File("log.txt"), config = dir.File("config.yaml");
+  ASSERT_EQ(RunSemvox("generate --seed 104 --set apartment.max_rooms=2 -o " + gt, log), 0) << testing::ReadText(log);
+  {
+    std::ofstream c(config);
+    c << testing::ReadText(std::string(SEMVOX_SOURCE_DIR) + "/tests/data/semantic.yaml") << "objects:\n  enabled: false\n";
+  }
+  ASSERT_EQ(RunSemvox("run " + gt + "/mesh.ply -o " + out + " --config " + config, log), 0) << testing::ReadText(log);
+  for (const char* f : {"voxels.ply", "map.ot", "semantic_topview_labels.png", "config_used.yaml"})
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
+  for (const char* f : {"support_clutter.ply", "support_clutter_topview.png", "object_proposals.json"})
+    EXPECT_FALSE(std::filesystem::exists(out + "/" + f)) << f;
+  std::ifstream sj(out + "/summary.json");
+  const nlohmann::json s = nlohmann::json::parse(sj);
+  EXPECT_TRUE(s.contains("semantic"));
+  EXPECT_FALSE(s.contains("objects"));
+  EXPECT_NE(testing::ReadText(out + "/config_used.yaml").find("enabled: false"), std::string::npos);
+  // An out-of-range value is one error line naming the key, and nothing is run.
+  {
+    std::ofstream c(config);
+    c << "objects:\n  merge_iou: 0\n";
+  }
+  const std::string bad = dir.File("bad");
+  EXPECT_NE(RunSemvox("run " + gt + "/mesh.ply -o " + bad + " --config " + config, log), 0);
+  EXPECT_NE(testing::ReadText(log).find("objects.merge_iou"), std::string::npos) << testing::ReadText(log);
+  EXPECT_FALSE(std::filesystem::exists(bad + "/summary.json"));
+}
+
 }  // namespace
 }  // namespace semvox
