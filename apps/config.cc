@@ -28,6 +28,15 @@ struct Field {
 #define SEMVOX_DOUBLE_FIELD(sec, member, name, lo, hi, doc)                                       \
   Field { sec, #name, doc, lo, hi, [](const PipelineConfig& c) { return double(c.member.name); }, \
           [](PipelineConfig& c, double v) { c.member.name = v; } }
+// A true / false field (printed and read as the words).
+#define SEMVOX_BOOL_FIELD(sec, member, name, text)                                                                     \
+  [] {                                                                                                                 \
+    Field b;                                                                                                           \
+    b.section = sec, b.key = #name, b.doc = text, b.choices = {"true", "false"};                                       \
+    b.get_str = [](const PipelineConfig& c) { return std::string(c.member.name ? "true" : "false"); };                 \
+    b.set_str = [](PipelineConfig& c, const std::string& v) { c.member.name = v == "true"; };                          \
+    return b;                                                                                                          \
+  }()
 #define SEMVOX_INT_FIELD(sec, member, name, lo, hi, doc)                                          \
   Field { sec, #name, doc, lo, hi, [](const PipelineConfig& c) { return double(c.member.name); }, \
           [](PipelineConfig& c, double v) { c.member.name = decltype(c.member.name)(v); }, true }
@@ -146,16 +155,7 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("render", render, min_hit_fraction, 0, 1, "drop views where fewer pixels hit the scene"));
     f.push_back(SEMVOX_INT_FIELD("render", render, thumbnail_width, 16, 8192, "width of --save-views thumbnails, pixels"));
     // ---- semantic: classification views and the Voxel-CRF (apps/semantic_stage.h, voxelcrf/) ----
-    {
-      Field enabled;
-      enabled.section = "semantic";
-      enabled.key = "enabled";
-      enabled.doc = "run the per-view classifiers and the Voxel-CRF (voxels.ply, map.ot, semantic top view)";
-      enabled.choices = {"true", "false"};
-      enabled.get_str = [](const PipelineConfig& c) { return std::string(c.semantic.enabled ? "true" : "false"); };
-      enabled.set_str = [](PipelineConfig& c, const std::string& v) { c.semantic.enabled = v == "true"; };
-      f.push_back(enabled);
-    }
+    f.push_back(SEMVOX_BOOL_FIELD("semantic", semantic, enabled, "run the per-view classifiers and the Voxel-CRF (voxels.ply, map.ot, semantic top view)"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic, classify_yaw_step_deg, 1, 360, "yaw between classification views of a viewpoint, degrees; divides 360"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.evidence, depth_sigma_voxels, 0.01, 100, "sigma of the depth term f_s, voxel sizes"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.evidence, completion_band_m, 0, 5, "unknown voxels this close to an occupied voxel can be completed, metres"));
@@ -172,29 +172,10 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf.planes, normal_angle_deg, 0.1, 45, "plane detection: normal tolerance, degrees"));
     // ---- end semantic ----
     // ---- objects: support / clutter / other and generic object proposals (objects/support_stage.h) ----
-    auto flag = [](const char* key, const char* doc, bool SupportStageOptions::*member) {
-      Field b;
-      b.section = "objects";
-      b.key = key;
-      b.doc = doc;
-      b.choices = {"true", "false"};
-      b.get_str = [member](const PipelineConfig& c) { return std::string(c.objects.*member ? "true" : "false"); };
-      b.set_str = [member](PipelineConfig& c, const std::string& v) { c.objects.*member = v == "true"; };
-      return b;
-    };
-    f.push_back(flag("enabled", "classify support / clutter / other in every classification view (needs semantic.enabled): support_clutter.ply, support_clutter_topview.png",
-                     &SupportStageOptions::enabled));
-    f.push_back(flag("proposals", "also generic object proposals, merged across views: object_proposals.json", &SupportStageOptions::proposals));
-    {
-      Field crf;
-      crf.section = "objects";
-      crf.key = "use_crf";
-      crf.doc = "dense pixel CRF on the SVM's superpixel probabilities (false: the SVM's output)";
-      crf.choices = {"true", "false"};
-      crf.get_str = [](const PipelineConfig& c) { return std::string(c.objects.classifier.use_crf ? "true" : "false"); };
-      crf.set_str = [](PipelineConfig& c, const std::string& v) { c.objects.classifier.use_crf = v == "true"; };
-      f.push_back(crf);
-    }
+    f.push_back(SEMVOX_BOOL_FIELD("objects", objects, enabled,
+                                  "classify support / clutter / other in every classification view (needs semantic.enabled): support_clutter.ply, support_clutter_topview.png"));
+    f.push_back(SEMVOX_BOOL_FIELD("objects", objects, proposals, "also generic object proposals, merged across views: object_proposals.json"));
+    f.push_back(SEMVOX_BOOL_FIELD("objects", objects.classifier, use_crf, "dense pixel CRF on the SVM's superpixel probabilities (false: the SVM's output)"));
     f.push_back(SEMVOX_INT_FIELD("objects", objects.classifier.crf, iterations, 0, 100, "dense CRF mean-field iterations"));
     f.push_back(SEMVOX_DOUBLE_FIELD("objects", objects.fusion, min_label_probability, 0, 1, "a voxel is support / clutter only with at least this fused probability"));
     f.push_back(SEMVOX_DOUBLE_FIELD("objects", objects.proposal, min_score, 0, 1, "proposals scoring below this (the SVM's probability of an object) are dropped"));
