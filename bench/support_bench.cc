@@ -24,6 +24,7 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "objects/dense_crf_check.h"
 #include "objects/proposal_training.h"
@@ -84,6 +85,13 @@ std::vector<float> Unary(const RenderedView& view, const Image<int32_t>& truth, 
     for (int c = 0; c < kNumSupportClasses; ++c) p[i * 3 + size_t(c)] /= s;
   }
   return p;
+}
+
+// Max and mean of |a_i - b_i| over two equally long vectors.
+std::pair<double, double> AbsDiff(const std::vector<float>& a, const std::vector<float>& b) {
+  double max_d = 0, mean_d = 0;
+  for (size_t i = 0; i < a.size(); ++i) max_d = std::max(max_d, double(std::abs(a[i] - b[i]))), mean_d += std::abs(a[i] - b[i]) / double(a.size());
+  return {max_d, mean_d};
 }
 
 // The lattice's kernel between two points at feature distance D (random direction, random placement;
@@ -225,8 +233,7 @@ int main(int argc, char** argv) {
     t0 = std::chrono::steady_clock::now();
     const std::vector<float> brute = crf->MeanField(im.p, 3, true);
     const double t_brute = Ms(t0);
-    double max_d = 0, mean_d = 0;
-    for (size_t i = 0; i < fast.size(); ++i) max_d = std::max(max_d, double(std::abs(fast[i] - brute[i]))), mean_d += std::abs(fast[i] - brute[i]) / double(fast.size());
+    const auto [max_d, mean_d] = AbsDiff(fast, brute);
     std::printf("test image 40x30 (synthetic table top, theta_beta 8 px, weights 1, refinement %d / 5-D %d): |dQ| max %.2e mean %.2e; "
                 "lattice build %.0f ms + mean-field %.1f ms, brute force %.0f ms\n",
                 o.lattice_refinement, o.lattice_refinement_5d, max_d, mean_d, t_build, t_fast, t_brute);
@@ -290,8 +297,7 @@ int main(int argc, char** argv) {
       std::vector<float> mf, mb;
       one->Messages(p, kNumSupportClasses, false, &mf);
       one->Messages(p, kNumSupportClasses, true, &mb);
-      double mx = 0, mn = 0;
-      for (size_t i = 0; i < mf.size(); ++i) mx = std::max(mx, double(std::abs(mf[i] - mb[i]))), mn += std::abs(mf[i] - mb[i]) / double(mf.size());
+      const auto [mx, mn] = AbsDiff(mf, mb);
       std::printf("  one normalised %s message from the unary: |dm| max %.2e mean %.2e\n", names[kernel], mx, mn);
     }
     {
@@ -304,8 +310,7 @@ int main(int argc, char** argv) {
         for (int c = 0; c < kNumSupportClasses; ++c) pp[i * 3 + size_t(c)] /= s;
       }
       const std::vector<float> brute2 = crf->MeanField(pp, kNumSupportClasses, true);
-      double mx = 0, mn = 0;
-      for (size_t i = 0; i < brute.size(); ++i) mx = std::max(mx, double(std::abs(brute2[i] - brute[i]))), mn += std::abs(brute2[i] - brute[i]) / double(brute.size());
+      const auto [mx, mn] = AbsDiff(brute2, brute);
       std::printf("  brute force with the unary perturbed by 1e-4 (relative): |dQ| max %.2e mean %.2e\n", mx, mn);
     }
   }
