@@ -52,11 +52,6 @@ bool TriangleOverlapsBox(const Eigen::Vector3d& a, const Eigen::Vector3d& b, con
   return std::fabs(d) <= r;
 }
 
-struct FloorCeiling {
-  bool floor_found = false, ceiling_found = false;
-  double floor_z = 0, ceiling_z = 0;
-};
-
 // Dominant lowest / highest horizontal surfaces from (z, weight) samples of near-horizontal elements.
 // Area histogram of horizontal surfaces over height, in bins of `bin_m`.
 struct HeightHistogram {
@@ -82,6 +77,24 @@ struct HeightHistogram {
     return s / a;
   }
 };
+
+// First occupied voxel along a ray within `range` (cells), or -1.
+double DistanceToOccupied(const VoxelGrid& grid, const Eigen::Vector3d& from, const Eigen::Vector3d& dir, double range) {
+  const Eigen::Vector3f o = from.cast<float>();
+  const Eigen::Vector3f e = (from + dir * range).cast<float>();
+  double hit = -1;
+  const int okey[3] = {grid.origin_key()[0], grid.origin_key()[1], grid.origin_key()[2]};
+  const int dims[3] = {grid.dims()[0], grid.dims()[1], grid.dims()[2]};
+  TraverseGrid(o, e, grid.resolution(), okey, dims, [&](size_t idx) {
+    if (grid.state(idx) != VoxelState::kOccupied) return true;
+    const auto c = grid.Cell(idx);
+    hit = (grid.CellCenter(c[0], c[1], c[2]) - from).norm();
+    return false;
+  });
+  return hit;
+}
+
+}  // namespace
 
 // Floor: the lowest bin of upward-facing area holding at least 30% of the largest such bin. Ceiling: the
 // highest bin of downward-facing area with at least 10% of the floor's area, far enough above the floor.
@@ -115,24 +128,6 @@ FloorCeiling DetectFloorCeiling(const std::vector<std::pair<double, double>>& up
   }
   return fc;
 }
-
-// First occupied voxel along a ray within `range` (cells), or -1.
-double DistanceToOccupied(const VoxelGrid& grid, const Eigen::Vector3d& from, const Eigen::Vector3d& dir, double range) {
-  const Eigen::Vector3f o = from.cast<float>();
-  const Eigen::Vector3f e = (from + dir * range).cast<float>();
-  double hit = -1;
-  const int okey[3] = {grid.origin_key()[0], grid.origin_key()[1], grid.origin_key()[2]};
-  const int dims[3] = {grid.dims()[0], grid.dims()[1], grid.dims()[2]};
-  TraverseGrid(o, e, grid.resolution(), okey, dims, [&](size_t idx) {
-    if (grid.state(idx) != VoxelState::kOccupied) return true;
-    const auto c = grid.Cell(idx);
-    hit = (grid.CellCenter(c[0], c[1], c[2]) - from).norm();
-    return false;
-  });
-  return hit;
-}
-
-}  // namespace
 
 bool VoxelizeOptions::Check(std::string* error) const {
   auto fail = [&](const std::string& field, double value, const std::string& constraint) {

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/geometry.h"
@@ -48,6 +49,20 @@ struct VoxelMap {
   size_t rays_cast = 0;
   double seconds_surface = 0, seconds_floor = 0, seconds_free_space = 0;
 };
+
+// Floor and ceiling heights from (z, weight) samples of near-horizontal surface elements (weight = area,
+// m²). Floor: the lowest `bin_m` bin of upward-facing area holding at least 30% of the largest such bin;
+// ceiling: the highest bin of downward-facing area with at least 10% of the floor's area and at least
+// `min_floor_to_ceiling_m` above it. Heights are refined to the area-weighted mean over the bin and its
+// neighbours. Unoriented surfaces (clouds) pass the same samples as `up` and `down`. Also used by the scene
+// frame estimate (mapping/scene_frame.h), so both agree on where the floor is.
+struct FloorCeiling {
+  bool floor_found = false, ceiling_found = false;
+  double floor_z = 0, ceiling_z = 0;  // Metres.
+};
+FloorCeiling DetectFloorCeiling(const std::vector<std::pair<double, double>>& up,
+                                const std::vector<std::pair<double, double>>& down, double bin_m,
+                                double min_floor_to_ceiling_m);
 
 // Returns the grid bounds (keys) covering `box` with one voxel of margin, or an error when it exceeds
 // options.max_voxels or the OctoMap key range.

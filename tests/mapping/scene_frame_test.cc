@@ -1,0 +1,179 @@
+// Canonical frame estimate (mapping/scene_frame.h, issue 16 item 1): a generated apartment (seed 102)
+// turned about z, tilted and shifted, as a mesh and as a cloud sampled from it without normals; the
+// estimator must recover up within 0.3 degrees, the yaw (mod 90) within 0.5 degrees and the floor within
+// 2 cm. Upside-down and 30-degree-tilted scans warn naming --up; an axis-aligned scene gives exactly the
+// identity.
+#include "mapping/scene_frame.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "io/load_scene.h"
+#include "scenegen/apartment.h"
+
+namespace semvox {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+const Mesh& ApartmentMesh() {
+  static const Mesh mesh = [] {
+    ApartmentOptions ao;
+    ao.seed = 102;
+    Result<Apartment> a = GenerateApartment(ao);
+    EXPECT_TRUE(a.ok()) << a.status().message();
+    return a.ok() ? a->mesh : Mesh();
+  }();
+  return mesh;
+}
+
+Scene MeshScene(const Eigen::Isometry3d& input_from_original) {
+  Scene s;
+  s.format = "ply";
+  s.mesh = ApartmentMesh();
+  TransformScene(input_from_original, &s);
+  return s;
+}
+
+// Points sampled uniformly over the mesh's area (about `per_m2` per square metre), no normals, no colours.
+Scene CloudScene(const Eigen::Isometry3d& input_from_original, double per_m2 = 300.0) {
+  const Mesh& m = ApartmentMesh();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  Scene s;
+  s.format = "ply";
+  double carry = 0;
+  for (const auto& f : m.faces) {
+    const Eigen::Vector3d a = m.vertices[f[0]].cast<double>(), b = m.vertices[f[1]].cast<double>(),
+                          c = m.vertices[f[2]].cast<double>();
+    carry += 0.5 * (b - a).cross(c - a).norm() * per_m2;
+    for (; carry >= 1.0; carry -= 1.0) {
+      double r1 = u01(rng), r2 = u01(rng);
+      if (r1 + r2 > 1) r1 = 1 - r1, r2 = 1 - r2;
+      s.cloud.points.push_back((a + r1 * (b - a) + r2 * (c - a)).cast<float>());
+    }
+  }
+  TransformScene(input_from_original, &s);
+  return s;
+}
+
+// Turned by yaw about z, tilted by `tilt` about the horizontal axis (cos 40deg, sin 40deg, 0), shifted.
+Eigen::Isometry3d Pose(double yaw_deg, double tilt_deg, const Eigen::Vector3d& shift) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.rotate(Eigen::AngleAxisd(tilt_deg * kDeg, Eigen::Vector3d(std::cos(40 * kDeg), std::sin(40 * kDeg), 0)));
+  t.rotate(Eigen::AngleAxisd(yaw_deg * kDeg, Eigen::Vector3d::UnitZ()));
+  t.pretranslate(shift);
+  return t;
+}
+
+double Mod90Diff(double a, double b) {
+  double d = std::fmod(a - b, 90.0);
+  if (d > 45) d -= 90;
+  if (d <= -45) d += 90;
+  return d;
+}
+
+void ExpectRecovers(const Scene& scene, const Eigen::Isometry3d& input_from_original, double yaw_deg, const char* what) {
+  const SceneFrame f = EstimateSceneFrame(scene);
+  const Eigen::Vector3d true_up = input_from_original.linear() * Eigen::Vector3d::UnitZ();
+  const double up_err = std::acos(std::clamp(f.up.dot(true_up), -1.0, 1.0)) / kDeg;
+  const double yaw_err = Mod90Diff(f.yaw_deg, yaw_deg);
+  // The floor (z = 0 originally) along the levelled up: the height of the shifted origin along the true up.
+  const double true_floor = true_up.dot(input_from_original.translation());
+  std::printf("[%s] up error %.4f deg, tilt %.3f deg, yaw %.4f deg (true %.1f, error %.4f), floor %.4f m (true %.4f), %.3f s\n",
+              what, up_err, f.tilt_deg, f.yaw_deg, yaw_deg, yaw_err, f.floor_z, true_floor, f.seconds);
+  EXPECT_TRUE(f.up_found);
+  EXPECT_TRUE(f.levelled);
+  EXPECT_FALSE(f.upside_down);
+  EXPECT_LT(up_err, 0.3);
+  EXPECT_TRUE(f.yaw_found);
+  EXPECT_LT(std::fabs(yaw_err), 0.5);
+  EXPECT_TRUE(f.floor_found);
+  EXPECT_NEAR(f.floor_z, true_floor, 0.02);
+  // Composed with the pose, the canonical frame is the original up to a turn by a multiple of 90 degrees
+  // about z and a horizontal shift.
+  const Eigen::Isometry3d m = f.canonical_from_input * input_from_original;
+  EXPECT_NEAR((m.linear() * Eigen::Vector3d::UnitZ()).z(), 1.0, 1 - std::cos(0.3 * kDeg));
+  const Eigen::Vector3d x = m.linear() * Eigen::Vector3d::UnitX();
+  EXPECT_LT(std::fabs(Mod90Diff(std::atan2(x.y(), x.x()) / kDeg, 0.0)), 0.5);
+  EXPECT_NEAR(m.translation().z(), 0.0, 0.02);
+  EXPECT_TRUE(f.warnings.empty());  // 2 degrees is below the warning threshold.
+}
+
+TEST(SceneFrame, MeshTurnedTiltedShifted) {
+  for (double yaw : {17.0, 33.0}) {
+    const Eigen::Isometry3d pose = Pose(yaw, 2.0, Eigen::Vector3d(1.3, -2.1, 0.8));
+    ExpectRecovers(MeshScene(pose), pose, yaw, yaw == 17.0 ? "mesh 17" : "mesh 33");
+  }
+}
+
+TEST(SceneFrame, CloudWithoutNormalsTurnedTiltedShifted) {
+  for (double yaw : {17.0, 33.0}) {
+    const Eigen::Isometry3d pose = Pose(yaw, 2.0, Eigen::Vector3d(1.3, -2.1, 0.8));
+    ExpectRecovers(CloudScene(pose), pose, yaw, yaw == 17.0 ? "cloud 17" : "cloud 33");
+  }
+}
+
+TEST(SceneFrame, AxisAlignedGivesExactlyTheIdentity) {
+  const SceneFrame f = EstimateSceneFrame(MeshScene(Eigen::Isometry3d::Identity()));
+  EXPECT_TRUE(f.identity());
+  EXPECT_TRUE(f.up_found);
+  EXPECT_EQ(f.yaw_deg, 0.0);
+  EXPECT_EQ(f.floor_z, 0.0);
+  EXPECT_TRUE(f.warnings.empty());
+  // The bundled demo apartment, as `semvox run` loads it.
+  Result<Scene> demo = LoadScene(std::string(SEMVOX_SOURCE_DIR) + "/scenes/demo_apartment.ply", LoadOptions());
+  ASSERT_TRUE(demo.ok()) << demo.status().message();
+  const SceneFrame d = EstimateSceneFrame(demo.value());
+  EXPECT_TRUE(d.identity()) << d.canonical_from_input.matrix();
+  EXPECT_TRUE(d.warnings.empty());
+}
+
+bool NamesUp(const SceneFrame& f) {
+  for (const auto& w : f.warnings)
+    if (w.find("--up") != std::string::npos) return true;
+  return false;
+}
+
+TEST(SceneFrame, UpsideDownWarnsAndKeepsTheInput) {
+  Eigen::Isometry3d flip = Eigen::Isometry3d::Identity();
+  flip.rotate(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));
+  for (const Scene& scene : {MeshScene(flip), CloudScene(flip, 150.0)}) {
+    const SceneFrame f = EstimateSceneFrame(scene);
+    EXPECT_TRUE(f.upside_down) << (scene.is_mesh() ? "mesh" : "cloud");
+    EXPECT_FALSE(f.levelled);
+    EXPECT_GT(f.tilt_deg, 179.0);
+    EXPECT_TRUE(NamesUp(f));
+    EXPECT_TRUE(f.canonical_from_input.linear().isIdentity(0.0));
+  }
+}
+
+TEST(SceneFrame, ThirtyDegreeTiltIsLevelledWithAWarning) {
+  const Eigen::Isometry3d pose = Pose(0.0, 30.0, Eigen::Vector3d::Zero());
+  const SceneFrame f = EstimateSceneFrame(MeshScene(pose));
+  EXPECT_TRUE(f.levelled);
+  EXPECT_NEAR(f.tilt_deg, 30.0, 0.3);
+  EXPECT_TRUE(NamesUp(f));
+  // Beyond max_level_deg the input up is kept, with a warning.
+  const SceneFrame g = EstimateSceneFrame(MeshScene(Pose(0.0, 60.0, Eigen::Vector3d::Zero())));
+  EXPECT_FALSE(g.levelled);
+  EXPECT_TRUE(NamesUp(g));
+}
+
+TEST(SceneFrame, TransformSceneMovesPointsAndRotatesNormals) {
+  Scene s;
+  s.cloud.points = {Eigen::Vector3f(1, 0, 0)};
+  s.cloud.normals = {Eigen::Vector3f(1, 0, 0)};
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  t.pretranslate(Eigen::Vector3d(0, 0, 2));
+  TransformScene(t, &s);
+  EXPECT_NEAR((s.cloud.points[0] - Eigen::Vector3f(0, 1, 2)).norm(), 0.0f, 1e-6f);
+  EXPECT_NEAR((s.cloud.normals[0] - Eigen::Vector3f(0, 1, 0)).norm(), 0.0f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace semvox
