@@ -1,6 +1,7 @@
 // Sub-commands of the semvox binary. main.cc parses the command line (CLI11) and calls these.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <memory>
 #include <string>
 #include <vector>
@@ -92,9 +93,11 @@ struct ViewsStageSummary {
   double camera_z = 0, seconds_build = 0, seconds_render = 0;
   std::vector<Eigen::Vector3d> viewpoints;  // The viewpoints' positions.
 };
-// `renderer` renders the scene; `extra_sink` (optional) sees every rendered view too.
+// `renderer` renders the scene; `extra_sink` (optional) sees every rendered view too. views.json's positions
+// and poses are mapped by `input_from_world` (the canonical frame back to the input frame).
 Status RunViewsStage(const ViewRenderer& renderer, const VoxelMap& map, const ViewsOptions& options, const std::string& outdir,
-                     bool save_views, ViewsStageSummary* summary, const ViewSink& extra_sink = {});
+                     bool save_views, ViewsStageSummary* summary, const ViewSink& extra_sink = {},
+                     const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
 
 // ---- batch (apps/batch_command.cc) ----
 struct BatchArgs {

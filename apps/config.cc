@@ -59,6 +59,9 @@ const std::vector<Field>& Fields() {
       f.push_back(up);
     }
     f.push_back(SEMVOX_DOUBLE_FIELD("input", load, scale, 1e-6, 1e6, "multiplies coordinates into metres (0.001 for mm)"));
+    f.push_back(SEMVOX_BOOL_FIELD("input", load, canonical_frame,
+                                  "level the scan, turn its walls onto the x / y axes and put the floor at z = 0 before mapping "
+                                  "(coordinate outputs stay in the input frame; false: use the input frame as it is)"));
     f.push_back(SEMVOX_DOUBLE_FIELD("input", load, millimetre_warning_extent_m, 1, 1e9,
                                     "warn about units when the scene is larger than this, metres"));
     f.push_back(SEMVOX_DOUBLE_FIELD("mapping", voxelize, voxel_size_m, 0.005, 1.0, "voxel edge, metres"));

@@ -1,6 +1,7 @@
 // `semvox remove OUTDIR (--class NAME | --instance ID | --all-furniture) -o OUT2`: object removal with scene
 // completion (src/voxelcrf/object_removal.h) on the outputs of `semvox run`.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -25,7 +26,10 @@ namespace {
 struct LoadedRun {
   VoxelGrid grid;
   SemanticMap map;
-  double floor_z = 0, ceiling_z = 0;
+  double floor_z = 0, ceiling_z = 0;  // Canonical frame of the run (the grid's frame), metres.
+  // The run's canonical frame back to its input frame (summary.json `frame`, identity when absent): voxels.ply
+  // holds input-frame coordinates, the grid and map.ot canonical keys.
+  Eigen::Isometry3d input_from_world = Eigen::Isometry3d::Identity();
 };
 
 Status LoadRun(const std::string& outdir, LoadedRun* run) {
@@ -43,6 +47,19 @@ Status LoadRun(const std::string& outdir, LoadedRun* run) {
     origin = s.at("grid").at("origin_key").get<std::array<int, 3>>();
     run->floor_z = s.at("floor").at("z").get<double>();
     run->ceiling_z = s.at("ceiling").at("z").get<double>();
+    if (s.contains("frame") && s["frame"].value("applied", false)) {
+      const auto m = s["frame"].at("input_from_canonical").get<std::vector<std::vector<double>>>();
+      if (m.size() != 4) throw std::runtime_error("frame.input_from_canonical is not 4 x 4");
+      for (int r = 0; r < 4; ++r) {
+        if (m[size_t(r)].size() != 4) throw std::runtime_error("frame.input_from_canonical is not 4 x 4");
+        for (int c = 0; c < 4; ++c) run->input_from_world.matrix()(r, c) = m[size_t(r)][size_t(c)];
+      }
+      // summary.json's heights are input z of canonical points above the origin: z_in = t(2,2) z + t(2,3).
+      const Eigen::Matrix4d& t = run->input_from_world.matrix();
+      if (!(std::fabs(t(2, 2)) > 0.1)) throw std::runtime_error("frame.input_from_canonical is not a levelling transform");
+      run->floor_z = (run->floor_z - t(2, 3)) / t(2, 2);
+      run->ceiling_z = (run->ceiling_z - t(2, 3)) / t(2, 2);
+    }
   } catch (const std::exception& e) {
     return Status::InvalidInput(FileError(summary_path, std::string("no grid dims / origin_key / floor z / ceiling z (") + e.what() + ")", hint));
   }
@@ -71,9 +88,12 @@ Status LoadRun(const std::string& outdir, LoadedRun* run) {
     if (!p[i]) return Status::InvalidInput(FileError(ply_path, std::string("no vertex property '") + names[i] + "'", hint));
   }
   std::vector<int32_t> record_of(run->grid.size(), -1);
+  const bool identity = IsIdentity(run->input_from_world);
+  const Eigen::Isometry3d world_from_input = run->input_from_world.inverse();
   for (size_t k = 0; k < vertex->count; ++k) {
     SemanticVoxelRecord r;
     r.centre = Eigen::Vector3f(float(p[0]->values[k]), float(p[1]->values[k]), float(p[2]->values[k]));
+    if (!identity) r.centre = (world_from_input * r.centre.cast<double>()).cast<float>();
     const auto c = run->grid.CellOf(r.centre.cast<double>());
     if (!run->grid.Contains(c[0], c[1], c[2]))
       return Status::InvalidInput(FileError(ply_path, "vertex " + std::to_string(k) + " lies outside the grid of summary.json", hint));
@@ -160,9 +180,11 @@ Status RunRemove(const RemoveArgs& args) {
   fs::create_directories(args.output, ec);
   if (ec) return Status::InvalidInput(FileError(args.output, "cannot create the directory: " + ec.message()));
   const fs::path o(args.output);
-  SEMVOX_RETURN_IF_ERROR(WriteVoxelsPly(out.map, (o / "voxels.ply").string()));
+  // Coordinates in the run's input frame, grids (map.ot, top views) on its canonical grid, as `semvox run`.
+  SEMVOX_RETURN_IF_ERROR(WriteVoxelsPly(out.map, (o / "voxels.ply").string(), run.input_from_world));
   VoxelMeshStats mesh;
-  SEMVOX_RETURN_IF_ERROR(WriteVoxelMesh(out.grid, out.map, (o / "mesh.ply").string(), (o / "mesh.obj").string(), &mesh));
+  SEMVOX_RETURN_IF_ERROR(WriteVoxelMesh(out.grid, out.map, (o / "mesh.ply").string(), (o / "mesh.obj").string(), &mesh,
+                                        run.input_from_world));
   std::vector<SemanticVoxel> voxels;
   std::vector<int32_t> record(out.grid.size(), -1);
   for (size_t k = 0; k < out.map.occupied.size(); ++k) record[out.map.occupied[k].voxel] = int32_t(k);
@@ -180,7 +202,13 @@ Status RunRemove(const RemoveArgs& args) {
       }
   SEMVOX_RETURN_IF_ERROR(WriteSemanticOctree(voxels, out.grid.resolution(), (o / "map.ot").string()));
   const OccupancyMap occ = ComputeOccupancy(out.grid, run.floor_z, config.occupancy);
-  SEMVOX_RETURN_IF_ERROR(WriteOccupancyMap(occ, args.output, "occupancy"));
+  OccupancyMap occ_out = occ;
+  if (!IsIdentity(run.input_from_world)) {
+    const Eigen::Vector3d corner = run.input_from_world * Eigen::Vector3d(occ.origin_x, occ.origin_y, 0.0);
+    const Eigen::Vector3d x = run.input_from_world.linear() * Eigen::Vector3d::UnitX();
+    occ_out.origin_x = corner.x(), occ_out.origin_y = corner.y(), occ_out.origin_yaw = std::atan2(x.y(), x.x());
+  }
+  SEMVOX_RETURN_IF_ERROR(WriteOccupancyMap(occ_out, args.output, "occupancy"));
   const ImageU16 top = SemanticTopView(out.map, out.grid, run.floor_z, config.occupancy.band_min_above_floor_m,
                                        config.occupancy.band_max_above_floor_m);
   SEMVOX_RETURN_IF_ERROR(WriteImage((o / "semantic_topview_labels.png").string(), top));
@@ -197,8 +225,10 @@ Status RunRemove(const RemoveArgs& args) {
   j["selection"] = sel;
   j["voxel_size_m"] = out.grid.resolution();
   j["grid"] = {{"dims", out.grid.dims()}, {"origin_key", out.grid.origin_key()}};
-  j["floor"] = {{"z", run.floor_z}};
-  j["ceiling"] = {{"z", run.ceiling_z}};
+  const Eigen::Matrix4d& t = run.input_from_world.matrix();
+  auto input_z = [&](double z) { return IsIdentity(run.input_from_world) ? z : t(2, 2) * z + t(2, 3); };
+  j["floor"] = {{"z", input_z(run.floor_z)}};  // Input frame, as the run's summary.json.
+  j["ceiling"] = {{"z", input_z(run.ceiling_z)}};
   j["removed_voxels"] = out.removed_voxels;
   j["completion_nodes"] = {{"total", out.nodes}, {"unseen", out.unknown_nodes}};
   j["completed_voxels"] = out.completed_voxels;

@@ -77,7 +77,8 @@ Status ParsePose(const std::string& text, Eigen::Vector3d* position, double* yaw
 }  // namespace
 
 Status RunViewsStage(const ViewRenderer& renderer, const VoxelMap& map, const ViewsOptions& options, const std::string& outdir,
-                     bool save_views, ViewsStageSummary* summary, const ViewSink& extra_sink) {
+                     bool save_views, ViewsStageSummary* summary, const ViewSink& extra_sink,
+                     const Eigen::Isometry3d& input_from_world) {
   const std::string views_dir = (fs::path(outdir) / "views").string();
   if (save_views) SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(views_dir));
   ViewSink sink = [&](const ViewRecord& record, const RenderedView& view) {
@@ -90,7 +91,7 @@ Status RunViewsStage(const ViewRenderer& renderer, const VoxelMap& map, const Vi
   Result<ViewSet> views = RenderViews(renderer, map, options, sink);
   if (!views.ok()) return views.status();
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(outdir) / "views.json").string(),
-                                         ViewsToJson(views.value(), options, save_views)));
+                                         ViewsToJson(views.value(), options, save_views, input_from_world)));
   const SurfaceCoverage cov = ComputeSurfaceCoverage(map.grid, views->voxel_seen);
   summary->positions = views->positions.size();
   summary->views = views->views.size();

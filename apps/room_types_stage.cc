@@ -10,7 +10,7 @@ namespace semvox {
 
 Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
                         const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options, const std::string& outdir,
-                        nlohmann::ordered_json* summary) {
+                        nlohmann::ordered_json* summary, const Eigen::Isometry3d& input_from_world) {
   const std::string model_path = options.model_path.empty() ? DefaultRoomTypeModelPath() : options.model_path;
   Result<RoomTypeModel> model = LoadRoomTypeModel(model_path);
   if (!model.ok()) return model.status();
@@ -29,7 +29,7 @@ Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, co
     for (int y = 0; y < kRoomTypeLabels; ++y) d.type_probabilities[size_t(y + 1)] = std::round(a.probabilities[size_t(y)] * 1e4) / 1e4;
   }
   const std::filesystem::path base(outdir);
-  SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(outdir, plan, result->rooms, described));
+  SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(outdir, plan, result->rooms, described, input_from_world));
   SEMVOX_RETURN_IF_ERROR(WriteImage((base / "rooms_types.png").string(), RenderRoomTypes(plan, result->pixel_types)));
   if (summary) {
     nlohmann::ordered_json& j = (*summary)["room_types"];

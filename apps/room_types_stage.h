@@ -10,6 +10,7 @@
 // The model is options.model_path, or models/room_type_crf.json ($SEMVOX_MODELS overrides the directory).
 #pragma once
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -24,6 +25,6 @@ namespace semvox {
 
 Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
                         const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options, const std::string& outdir,
-                        nlohmann::ordered_json* summary);
+                        nlohmann::ordered_json* summary, const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
 
 }  // namespace semvox

@@ -18,6 +18,7 @@
 #include "mapping/occupancy_map.h"
 #include "mapping/octomap_io.h"
 #include "mapping/outliers.h"
+#include "mapping/scene_frame.h"
 #include "mapping/voxelizer.h"
 #include "rooms/floor_plan.h"
 #include "rooms/room_export.h"
@@ -68,6 +69,30 @@ Status RunPipeline(const RunArgs& args) {
                            << outliers.kept_box.max.transpose() << " m)");
   if (scene.is_mesh() ? scene.mesh.faces.empty() : scene.cloud.points.empty())
     return Status::InvalidInput(FileError(args.input, "no geometry left after trimming outliers", "check the units"));
+  const Aabb input_box = scene.Bounds();  // Input frame, after trimming.
+  // Canonical frame (mapping/scene_frame.h): level, walls along the axes, floor at z = 0. Every stage below
+  // works in it; coordinate outputs go back to the input frame through input_from_world.
+  SceneFrame frame;
+  bool frame_applied = false;
+  if (config.load.canonical_frame) {
+    SceneFrameOptions fo;
+    fo.bin_m = config.voxelize.voxel_size_m;
+    fo.horizontal_normal_deg = config.voxelize.horizontal_normal_deg;
+    fo.min_floor_to_ceiling_m = config.voxelize.min_floor_to_ceiling_m;
+    fo.cloud_normal_neighbors = config.voxelize.cloud_normal_neighbors;
+    frame = EstimateSceneFrame(scene, fo);
+    for (const std::string& w : frame.warnings) SEMVOX_WARN(w);
+    if (!frame.identity()) {
+      TransformScene(frame.canonical_from_input, &scene);
+      frame_applied = true;
+    }
+    timing["frame"] = frame.seconds;
+    SEMVOX_INFO("frame: tilt " << frame.tilt_deg << " deg, yaw " << frame.yaw_deg << " deg, floor z " << frame.floor_z
+                               << " m" << (frame_applied ? " (applied)" : " (identity)"));
+  }
+  const Eigen::Isometry3d input_from_world = frame_applied ? frame.input_from_canonical() : Eigen::Isometry3d::Identity();
+  // Heights (floor, ceiling, camera) in the input frame: z of the canonical point above the origin.
+  auto input_z = [&](double z) { return frame_applied ? (input_from_world * Eigen::Vector3d(0, 0, z)).z() : z; };
   timing["load"] = Seconds(t0);
   progress.End();
   SEMVOX_INFO("loaded " << args.input << ": "
@@ -115,7 +140,7 @@ Status RunPipeline(const RunArgs& args) {
     }
   }
   SEMVOX_RETURN_IF_ERROR(RunViewsStage(renderer.value(), map, config.render, args.outdir, args.save_views, &views,
-                                       semantic ? semantic->DepthSink() : ViewSink{}));
+                                       semantic ? semantic->DepthSink() : ViewSink{}, input_from_world));
   timing["render"] = Seconds(t0);
   timing["render_build"] = views.seconds_build;
   timing["render_trace"] = views.seconds_render;
@@ -139,7 +164,16 @@ Status RunPipeline(const RunArgs& args) {
 
   t0 = Clock::now();
   const OccupancyMap occ = ComputeOccupancy(final_grid, map.floor_z, config.occupancy);
-  SEMVOX_RETURN_IF_ERROR(WriteOccupancyMap(occ, args.outdir, "occupancy"));
+  // The image stays on the canonical grid; its origin is the lower-left corner's pose in the input frame.
+  OccupancyMap occ_out = occ;
+  if (frame_applied) {
+    const Eigen::Vector3d o = input_from_world * Eigen::Vector3d(occ.origin_x, occ.origin_y, 0.0);
+    const Eigen::Vector3d x = input_from_world.linear() * Eigen::Vector3d::UnitX();
+    occ_out.origin_x = o.x();
+    occ_out.origin_y = o.y();
+    occ_out.origin_yaw = std::atan2(x.y(), x.x());
+  }
+  SEMVOX_RETURN_IF_ERROR(WriteOccupancyMap(occ_out, args.outdir, "occupancy"));
   timing["occupancy"] = Seconds(t0);
   // ---- rooms stage (src/rooms): floor plan with door openings, geometric room segmentation, and
   // rooms.png / rooms.geojson / rooms.svg on the occupancy grid. Room types stay "unknown" until a
@@ -168,9 +202,9 @@ Status RunPipeline(const RunArgs& args) {
                                                config.occupancy.band_max_above_floor_m);
       RoomTypeCrfOptions rt = config.room_types;
       if (rt.model_path.empty()) rt.model_path = models_dir + "/room_type_crf.json";
-      SEMVOX_RETURN_IF_ERROR(RunRoomTypeStage(plan, rooms, evidence, topview, rt, args.outdir, &types_summary));
+      SEMVOX_RETURN_IF_ERROR(RunRoomTypeStage(plan, rooms, evidence, topview, rt, args.outdir, &types_summary, input_from_world));
     } else {
-      SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(args.outdir, plan, rooms));
+      SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(args.outdir, plan, rooms, false, input_from_world));
     }
     timing["rooms"] = Seconds(t0);
     progress.End();
@@ -179,8 +213,8 @@ Status RunPipeline(const RunArgs& args) {
       Result<ImageU16> room_ids = ReadImageU16((fs::path(args.outdir) / "rooms.png").string());
       if (!room_ids.ok()) return room_ids.status();
       SEMVOX_RETURN_IF_ERROR(semantic->Write(args.outdir, &room_ids.value(), config.occupancy.band_min_above_floor_m,
-                                             config.occupancy.band_max_above_floor_m, occ.image));
-      if (support) SEMVOX_RETURN_IF_ERROR(support->Write(args.outdir, final_grid));
+                                             config.occupancy.band_max_above_floor_m, occ.image, input_from_world));
+      if (support) SEMVOX_RETURN_IF_ERROR(support->Write(args.outdir, final_grid, input_from_world));
       timing["semantic_exports"] = Seconds(t0);
     }
     rooms_summary = {{"method", RoomSegmentationMethodName(config.rooms.method)},
@@ -201,7 +235,7 @@ Status RunPipeline(const RunArgs& args) {
   timing["octomap"] = Seconds(t0);
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(args.outdir) / "config_used.yaml").string(), DumpConfig(config)));
 
-  const Aabb box = scene.Bounds();
+  const Aabb& box = input_box;
   nlohmann::ordered_json s;
   s["semvox_version"] = "0.1.0";
   s["input"] = {{"path", args.input},
@@ -218,18 +252,39 @@ Status RunPipeline(const RunArgs& args) {
   s["voxel_size_m"] = config.voxelize.voxel_size_m;
   s["grid"] = {{"dims", map.grid.dims()}, {"origin_key", map.grid.origin_key()}};
   s["voxels"] = {{"occupied", counts[2]}, {"free", counts[1]}, {"unknown", counts[0]}};
-  s["floor"] = {{"found", map.floor_found}, {"z", map.floor_z}};
-  s["ceiling"] = {{"found", map.ceiling_found}, {"z", map.ceiling_z}};
+  s["floor"] = {{"found", map.floor_found}, {"z", input_z(map.floor_z)}};
+  s["ceiling"] = {{"found", map.ceiling_found}, {"z", input_z(map.ceiling_z)}};
+  if (config.load.canonical_frame) {
+    nlohmann::ordered_json m = nlohmann::ordered_json::array();
+    const Eigen::Matrix4d t = input_from_world.matrix();
+    for (int r = 0; r < 4; ++r) m.push_back({t(r, 0), t(r, 1), t(r, 2), t(r, 3)});
+    s["frame"] = {{"applied", frame_applied},
+                  {"input_from_canonical", m},
+                  {"up", {frame.up.x(), frame.up.y(), frame.up.z()}},
+                  {"up_found", frame.up_found},
+                  {"tilt_deg", frame.tilt_deg},
+                  {"levelled", frame.levelled},
+                  {"upside_down", frame.upside_down},
+                  {"yaw_deg", frame.yaw_deg},
+                  {"yaw_found", frame.yaw_found},
+                  {"floor_z_input", frame.floor_z},
+                  {"floor_found", frame.floor_found},
+                  {"seconds", frame.seconds},
+                  {"warnings", frame.warnings}};
+  }
   nlohmann::json positions = nlohmann::json::array();
-  for (const auto& p : map.scan_positions) positions.push_back({p.x(), p.y(), p.z()});
+  for (const auto& q : map.scan_positions) {
+    const Eigen::Vector3d p = frame_applied ? Eigen::Vector3d(input_from_world * q) : q;
+    positions.push_back({p.x(), p.y(), p.z()});
+  }
   s["scan_positions"] = positions;
   s["enclosed"] = map.enclosed;
   s["rays_cast"] = map.rays_cast;
   s["occupancy"] = {{"image", "occupancy.pgm"}, {"width", occ.image.width}, {"height", occ.image.height},
-                    {"origin", {occ.origin_x, occ.origin_y}}};
+                    {"origin", {occ_out.origin_x, occ_out.origin_y}}, {"origin_yaw_rad", occ_out.origin_yaw}};
   s["rooms"] = rooms_summary;
   s["views"] = {{"file", "views.json"}, {"positions", views.positions}, {"views", views.views}, {"kept", views.kept},
-                {"camera_z", views.camera_z}, {"surface_voxels", views.surface_voxels},
+                {"camera_z", input_z(views.camera_z)}, {"surface_voxels", views.surface_voxels},
                 {"surface_voxels_seen", views.seen_surface_voxels}};  // render stage
   if (semantic) s["semantic"] = semantic->Summary();
   if (support) {

@@ -294,11 +294,11 @@ SemanticMap* SemanticStage::mutable_semantic_map() { return &impl_->semantic; }
 const std::vector<ClassifiedViewRoomEvidence>& SemanticStage::room_evidence() const { return impl_->rooms; }
 
 Status SemanticStage::Write(const std::string& outdir, const ImageU16* room_ids, double band_min_m, double band_max_m,
-                            const ImageRgb8& occupancy_image) {
+                            const ImageRgb8& occupancy_image, const Eigen::Isometry3d& input_from_world) {
   Impl& s = *impl_;
   const VoxelGrid& grid = s.map->grid;
   if (room_ids) AssignRooms(*room_ids, grid, &s.semantic);
-  SEMVOX_RETURN_IF_ERROR(WriteVoxelsPly(s.semantic, (fs::path(outdir) / "voxels.ply").string()));
+  SEMVOX_RETURN_IF_ERROR(WriteVoxelsPly(s.semantic, (fs::path(outdir) / "voxels.ply").string(), input_from_world));
   // map.ot: every known voxel of the refined map; occupied ones with label and confidence.
   std::vector<SemanticVoxel> voxels;
   std::vector<int32_t> record(grid.size(), -1);

@@ -8,6 +8,7 @@
 //   stage.Write(outdir, room_ids)                            // exports
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <functional>
 #include <memory>
@@ -66,8 +67,10 @@ class SemanticStage {
   SemanticMap* mutable_semantic_map();
   const std::vector<ClassifiedViewRoomEvidence>& room_evidence() const;
   // voxels.ply, map.ot, semantic_topview.png, semantic_topview_labels.png (rooms assigned from room_ids).
+  // voxels.ply's coordinates are mapped by `input_from_world` (canonical frame back to the input frame);
+  // map.ot and the top views stay on the grid (canonical frame).
   Status Write(const std::string& outdir, const ImageU16* room_ids, double band_min_m, double band_max_m,
-               const ImageRgb8& occupancy_image);
+               const ImageRgb8& occupancy_image, const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
   nlohmann::ordered_json Summary() const;
 
   // ---- For `semvox train --voxel-crf` ----

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -63,6 +64,11 @@ struct Aabb {
   bool valid() const { return (min.array() <= max.array()).all(); }
   Eigen::Vector3f extent() const { return max - min; }
 };
+
+// Whether a rigid transform is exactly the identity. Coordinate writers take an `input_from_world` transform
+// (the canonical frame back to the input's, mapping/scene_frame.h) and leave values untouched under the
+// identity, so that outputs of axis-aligned inputs stay byte-identical.
+inline bool IsIdentity(const Eigen::Isometry3d& t) { return t.matrix() == Eigen::Matrix4d::Identity(); }
 
 // What was loaded: exactly one of mesh / cloud is non-empty.
 struct Scene {

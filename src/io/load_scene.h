@@ -20,6 +20,9 @@ struct LoadOptions {
   double millimetre_warning_extent_m = 200.0;
   // Fewest valid vertices / points a usable scene needs.
   int min_valid_points = 3;
+  // `semvox run` only (not LoadScene): estimate the canonical frame (level, turn the walls onto the axes, floor
+  // at z = 0; mapping/scene_frame.h) and work in it, mapping coordinate outputs back to the input frame.
+  bool canonical_frame = true;
 
   bool Check(std::string* error) const;
 };

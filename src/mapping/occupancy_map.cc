@@ -59,7 +59,10 @@ Status WriteOccupancyMap(const OccupancyMap& map, const std::string& dir, const 
   yaml.precision(10);
   yaml << "image: " << pgm_name << "\n"
        << "resolution: " << map.resolution << "\n"
-       << "origin: [" << map.origin_x << ", " << map.origin_y << ", 0.0]\n"
+       << "origin: [" << map.origin_x << ", " << map.origin_y << ", ";
+  if (map.origin_yaw == 0) yaml << "0.0";
+  else yaml << map.origin_yaw;
+  yaml << "]\n"
        << "negate: 0\n"
        << "occupied_thresh: 0.65\n"
        << "free_thresh: 0.196\n";
@@ -83,7 +86,7 @@ Result<OccupancyMap> ReadOccupancyMap(const std::string& yaml_path) {
     while (!value.empty() && value.front() == ' ') value.erase(0, 1);
     if (key == "image") image = value;
     else if (key == "resolution") m.resolution = std::atof(value.c_str());
-    else if (key == "origin") std::sscanf(value.c_str(), "[%lf, %lf", &m.origin_x, &m.origin_y);
+    else if (key == "origin") std::sscanf(value.c_str(), "[%lf, %lf, %lf", &m.origin_x, &m.origin_y, &m.origin_yaw);
   }
   if (image.empty() || !(m.resolution > 0))
     return Status::InvalidInput(FileError(yaml_path, "not a map_server YAML (needs image and resolution)", ""));

@@ -25,6 +25,9 @@ struct OccupancyMap {
   double resolution = 0;  // Metres per pixel (the voxel size).
   double origin_x = 0;    // World position of the lower-left pixel's lower-left corner.
   double origin_y = 0;
+  double origin_yaw = 0;  // Radians: the map's turn about +Z in the frame of origin_x / origin_y (map_server's
+                          // third origin value); non-zero when the map is on a canonical grid turned against
+                          // the input frame (mapping/scene_frame.h).
 };
 
 // A column is occupied when any voxel in the band is occupied, free when any is free, unknown otherwise.

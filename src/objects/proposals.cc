@@ -370,7 +370,9 @@ void ProposalMerger::Add(const std::vector<ObjectProposal>& proposals) {
   }
 }
 
-Status ProposalMerger::WriteJson(const std::string& path, const SupportClutterFusion* fusion, double voxel_size_m) const {
+Status ProposalMerger::WriteJson(const std::string& path, const SupportClutterFusion* fusion, double voxel_size_m,
+                                 const Eigen::Isometry3d& input_from_world) const {
+  const bool identity = IsIdentity(input_from_world);
   // Support voxels by column.
   std::unordered_map<uint64_t, std::vector<double>> support_z;
   if (fusion)
@@ -385,7 +387,8 @@ Status ProposalMerger::WriteJson(const std::string& path, const SupportClutterFu
     const Merged& m = merged_[i];
     nlohmann::json j;
     auto r4 = [](double v) { return std::round(v * 1e4) / 1e4; };
-    j["centre"] = {r4(m.centre.x()), r4(m.centre.y()), r4(m.centre.z())};
+    const Eigen::Vector3d centre = identity ? Eigen::Vector3d(m.centre.cast<double>()) : Eigen::Vector3d(input_from_world * m.centre.cast<double>());
+    j["centre"] = {r4(centre.x()), r4(centre.y()), r4(centre.z())};
     j["size"] = {r4(m.size.x()), r4(m.size.y()), r4(m.size.z())};
     j["score"] = r4(m.score);
     j["views"] = m.views;
@@ -402,7 +405,10 @@ Status ProposalMerger::WriteJson(const std::string& path, const SupportClutterFu
           if (z >= bottom - 0.15 && z <= bottom + 0.05) best = std::max(best, z), ++count;
       }
     if (count > 0) {
-      j["supporting_surface"] = {{"z", r4(best + voxel_size_m / 2)}, {"voxels", count}};
+      // Input-frame z of the support's top below the box centre.
+      const double top = identity ? best + voxel_size_m / 2
+                                  : (input_from_world * Eigen::Vector3d(m.centre.x(), m.centre.y(), best + voxel_size_m / 2)).z();
+      j["supporting_surface"] = {{"z", r4(top)}, {"voxels", count}};
       ++supported;
     } else {
       j["supporting_surface"] = nullptr;

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -142,7 +143,10 @@ class ProposalMerger {
   // object_proposals.json: {"proposals": [{"centre": [x, y, z], "size": [dx, dy, dz], "score": s, "views": n,
   // "supporting_surface": {"z": top of the support voxels under it, "voxels": n} or null}], ...}, best first.
   // The supporting surface is looked up among `fusion`'s support voxels (may be null). Atomic.
-  Status WriteJson(const std::string& path, const SupportClutterFusion* fusion, double voxel_size_m) const;
+  // Centres and supporting-surface heights mapped by `input_from_world` (the canonical frame back to the
+  // input frame); sizes stay along the canonical axes.
+  Status WriteJson(const std::string& path, const SupportClutterFusion* fusion, double voxel_size_m,
+                   const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity()) const;
 
  private:
   double min_iou_;

@@ -55,12 +55,15 @@ std::vector<SupportVoxel> SupportClutterFusion::Voxels() const {
   return out;
 }
 
-Status SupportClutterFusion::WritePly(const std::string& path) const {
+Status SupportClutterFusion::WritePly(const std::string& path, const Eigen::Isometry3d& input_from_world) const {
+  const bool identity = IsIdentity(input_from_world);
   const std::vector<SupportVoxel> voxels = Voxels();
   const size_t n = voxels.size();
   std::vector<double> x(n), y(n), z(n), label(n), ps(n), pc(n), po(n);
   for (size_t i = 0; i < n; ++i) {
-    x[i] = voxels[i].centre.x(), y[i] = voxels[i].centre.y(), z[i] = voxels[i].centre.z();
+    const Eigen::Vector3d c = identity ? Eigen::Vector3d(voxels[i].centre.cast<double>())
+                                       : Eigen::Vector3d(input_from_world * voxels[i].centre.cast<double>());
+    x[i] = c.x(), y[i] = c.y(), z[i] = c.z();
     label[i] = voxels[i].label;
     ps[i] = voxels[i].p[0], pc[i] = voxels[i].p[1], po[i] = voxels[i].p[2];
   }

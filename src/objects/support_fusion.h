@@ -11,6 +11,7 @@
 // Label: the argmax when its probability is at least min_label_probability, else other.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -54,7 +55,8 @@ class SupportClutterFusion {
 
   // support_clutter.ply: binary little endian; vertex float x, y, z (voxel centre, metres), uchar label
   // (1 support, 2 clutter, 0 other), float p_support, p_clutter, p_other. Atomic.
-  Status WritePly(const std::string& path) const;
+  // Voxel centres mapped by `input_from_world` (the canonical frame back to the input frame).
+  Status WritePly(const std::string& path, const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity()) const;
   // Top view on the occupancy grid (width dims[0], height dims[1], row 0 = largest y): per column the label
   // of the highest fused support or clutter voxel (support green, clutter red), else the grid's state
   // (occupied dark grey, free white, unknown light grey).

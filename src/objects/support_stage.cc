@@ -62,11 +62,11 @@ Status SupportClutterStage::AddView(const RenderedView& view) {
   return Status::Ok();
 }
 
-Status SupportClutterStage::Write(const std::string& outdir, const VoxelGrid& grid) const {
+Status SupportClutterStage::Write(const std::string& outdir, const VoxelGrid& grid, const Eigen::Isometry3d& input_from_world) const {
   namespace fs = std::filesystem;
-  SEMVOX_RETURN_IF_ERROR(fusion_.WritePly((fs::path(outdir) / "support_clutter.ply").string()));
+  SEMVOX_RETURN_IF_ERROR(fusion_.WritePly((fs::path(outdir) / "support_clutter.ply").string(), input_from_world));
   SEMVOX_RETURN_IF_ERROR(fusion_.WriteTopView((fs::path(outdir) / "support_clutter_topview.png").string(), grid));
-  if (proposer_) SEMVOX_RETURN_IF_ERROR(merger_.WriteJson((fs::path(outdir) / "object_proposals.json").string(), &fusion_, options_.fusion.voxel_size_m));
+  if (proposer_) SEMVOX_RETURN_IF_ERROR(merger_.WriteJson((fs::path(outdir) / "object_proposals.json").string(), &fusion_, options_.fusion.voxel_size_m, input_from_world));
   return Status::Ok();
 }
 

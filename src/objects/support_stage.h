@@ -11,6 +11,7 @@
 // matches the training views' resolution (the CRF's pixel scales and the SLIC size are in pixels).
 #pragma once
 
+#include <Eigen/Geometry>
 #include <memory>
 #include <string>
 
@@ -54,7 +55,8 @@ class SupportClutterStage {
   // Classifies one view, fuses its probabilities and (with proposals) adds its 3D proposals.
   Status AddView(const RenderedView& view);
   // OUTDIR/support_clutter.ply, OUTDIR/support_clutter_topview.png (on `grid`), OUTDIR/object_proposals.json.
-  Status Write(const std::string& outdir, const VoxelGrid& grid) const;
+  // Coordinates in support_clutter.ply and object_proposals.json are mapped by `input_from_world`.
+  Status Write(const std::string& outdir, const VoxelGrid& grid, const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity()) const;
   // Counts of the fused voxels and merged proposals so far, and the time spent.
   SupportStageSummary summary() const;
   const SupportClutterFusion& fusion() const { return fusion_; }

@@ -269,8 +269,11 @@ std::string ThumbnailName(int view_id) {
   return buf;
 }
 
-std::string ViewsToJson(const ViewSet& set, const ViewsOptions& options, bool with_thumbnails) {
+std::string ViewsToJson(const ViewSet& set, const ViewsOptions& options, bool with_thumbnails,
+                        const Eigen::Isometry3d& input_from_world) {
   using json = nlohmann::ordered_json;
+  const bool identity = IsIdentity(input_from_world);
+  auto point = [&](const Eigen::Vector3d& p) { return identity ? p : Eigen::Vector3d(input_from_world * p); };
   json j;
   j["conventions"] = {
       {"world", "input frame, metres, +Z up"},
@@ -283,7 +286,7 @@ std::string ViewsToJson(const ViewSet& set, const ViewsOptions& options, bool wi
                      {"cx", c.cx},         {"cy", c.cy},       {"horizontal_fov_deg", c.HorizontalFovDeg()},
                      {"vertical_fov_deg", c.VerticalFovDeg()}};
   j["voxel_size_m"] = set.voxel_size_m;
-  j["camera_z"] = set.view_z;
+  j["camera_z"] = identity ? set.view_z : point(Eigen::Vector3d(0, 0, set.view_z)).z();
   j["filters"] = {{"min_hit_fraction", options.min_hit_fraction},
                   {"min_median_depth_m", options.min_median_depth_m},
                   {"min_color_stddev", options.min_color_stddev}};
@@ -293,17 +296,28 @@ std::string ViewsToJson(const ViewSet& set, const ViewsOptions& options, bool wi
                  {"dropped_empty", counts["empty"]}, {"dropped_too_close", counts["too_close"]},
                  {"dropped_homogeneous", counts["homogeneous"]}};
   json positions = json::array();
-  for (const auto& p : set.positions) positions.push_back({p.x(), p.y(), p.z()});
+  for (const auto& q : set.positions) {
+    const Eigen::Vector3d p = point(q.cast<double>());
+    positions.push_back({p.x(), p.y(), p.z()});
+  }
   j["positions"] = positions;
   json views = json::array();
   for (const auto& v : set.views) {
     json m = json::array();
-    const Eigen::Matrix4d t = v.world_from_camera.matrix();
+    const Eigen::Matrix4d t = identity ? Eigen::Matrix4d(v.world_from_camera.matrix())
+                                       : Eigen::Matrix4d(input_from_world.matrix() * v.world_from_camera.matrix());
     for (int r = 0; r < 4; ++r) m.push_back({t(r, 0), t(r, 1), t(r, 2), t(r, 3)});
+    double yaw_deg = v.yaw_deg, pitch_deg = v.pitch_deg;
+    if (!identity) {  // From the optical axis (camera +z) in the input frame.
+      const Eigen::Vector3d f = t.block<3, 1>(0, 2);
+      yaw_deg = std::atan2(f.y(), f.x()) * 180.0 / M_PI;
+      if (yaw_deg < 0) yaw_deg += 360.0;  // [0, 360) as the views' own yaws.
+      pitch_deg = std::asin(std::clamp(f.z(), -1.0, 1.0)) * 180.0 / M_PI;
+    }
     json e = {{"id", v.id},
               {"position", v.position},
-              {"yaw_deg", v.yaw_deg},
-              {"pitch_deg", v.pitch_deg},
+              {"yaw_deg", yaw_deg},
+              {"pitch_deg", pitch_deg},
               {"world_from_camera", m},
               {"kept", v.kept()},
               {"drop_reason", v.kept() ? "" : ViewDropName(v.drop)},

@@ -99,7 +99,10 @@ void MeasureView(const RenderedView& view, const ViewsOptions& options, ViewReco
 
 // OUTDIR/views.json: intrinsics, every pose (world_from_camera, 4x4 row-major), kept / dropped and why,
 // the filter statistics, and thumbnail names (views/view_NNNNN.png) when thumbnails are written.
-std::string ViewsToJson(const ViewSet& views, const ViewsOptions& options, bool with_thumbnails);
+// Positions, poses (world_from_camera, yaw_deg, pitch_deg) and camera_z are mapped by `input_from_world`
+// (the canonical frame back to the input frame).
+std::string ViewsToJson(const ViewSet& views, const ViewsOptions& options, bool with_thumbnails,
+                        const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
 // "views/view_00042.png"
 std::string ThumbnailName(int view_id);
 

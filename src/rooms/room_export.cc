@@ -134,11 +134,15 @@ std::vector<RoomDescription> DescribeRooms(const FloorPlan& plan, const RoomSegm
   return out;
 }
 
-std::string RoomsToGeoJson(const std::vector<RoomDescription>& rooms) {
+std::string RoomsToGeoJson(const std::vector<RoomDescription>& rooms, const Eigen::Isometry3d& input_from_world) {
   using nlohmann::ordered_json;
-  auto ring_json = [](const std::vector<Eigen::Vector2d>& ring) {
+  const bool identity = IsIdentity(input_from_world);
+  auto ring_json = [&](const std::vector<Eigen::Vector2d>& ring) {
     ordered_json r = ordered_json::array();
-    for (const auto& p : ring) r.push_back({std::round(p.x() * 1e4) / 1e4, std::round(p.y() * 1e4) / 1e4});
+    for (const auto& q : ring) {
+      const Eigen::Vector2d p = identity ? q : Eigen::Vector2d((input_from_world * Eigen::Vector3d(q.x(), q.y(), 0.0)).head<2>());
+      r.push_back({std::round(p.x() * 1e4) / 1e4, std::round(p.y() * 1e4) / 1e4});
+    }
     if (!ring.empty()) r.push_back(r.front());  // GeoJSON rings are closed.
     return r;
   };
@@ -248,20 +252,21 @@ Status WriteRoomIdsPng(const std::string& path, const ImageU16& ids) {
   return WriteFileAtomic(path, std::string(buf.begin(), buf.end()));
 }
 
-Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const RoomSegmentation& rooms, bool png_only) {
+Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const RoomSegmentation& rooms, bool png_only,
+                        const Eigen::Isometry3d& input_from_world) {
   const std::filesystem::path base(dir);
   SEMVOX_RETURN_IF_ERROR(WriteRoomIdsPng((base / "rooms.png").string(), rooms.room_ids));
   if (png_only) return Status::Ok();
   const std::vector<RoomDescription> described = DescribeRooms(plan, rooms);
-  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((base / "rooms.geojson").string(), RoomsToGeoJson(described)));
+  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((base / "rooms.geojson").string(), RoomsToGeoJson(described, input_from_world)));
   return WriteFileAtomic((base / "rooms.svg").string(), RoomsToSvg(plan, rooms, described));
 }
 
 Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const RoomSegmentation& rooms,
-                        const std::vector<RoomDescription>& described) {
+                        const std::vector<RoomDescription>& described, const Eigen::Isometry3d& input_from_world) {
   const std::filesystem::path base(dir);
   SEMVOX_RETURN_IF_ERROR(WriteRoomIdsPng((base / "rooms.png").string(), rooms.room_ids));
-  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((base / "rooms.geojson").string(), RoomsToGeoJson(described)));
+  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((base / "rooms.geojson").string(), RoomsToGeoJson(described, input_from_world)));
   return WriteFileAtomic((base / "rooms.svg").string(), RoomsToSvg(plan, rooms, described));
 }
 

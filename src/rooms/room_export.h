@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
@@ -39,7 +40,8 @@ struct RoomDescription {
 // Geometry and statistics of every room of `rooms` (ids 1..num_rooms).
 std::vector<RoomDescription> DescribeRooms(const FloorPlan& plan, const RoomSegmentation& rooms);
 
-std::string RoomsToGeoJson(const std::vector<RoomDescription>& rooms);
+// Polygon vertices (x, y, 0) of the canonical frame are mapped by `input_from_world` and written as their x, y.
+std::string RoomsToGeoJson(const std::vector<RoomDescription>& rooms, const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
 std::string RoomsToSvg(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<RoomDescription>& described);
 
 // 16-bit PNG, written atomically.
@@ -47,9 +49,9 @@ Status WriteRoomIdsPng(const std::string& path, const ImageU16& ids);
 
 // Writes rooms.png, and unless `png_only` rooms.geojson and rooms.svg, into `dir`.
 Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const RoomSegmentation& rooms,
-                        bool png_only = false);
+                        bool png_only = false, const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
 // Same, with rooms already described (and typed).
 Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const RoomSegmentation& rooms,
-                        const std::vector<RoomDescription>& described);
+                        const std::vector<RoomDescription>& described, const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
 
 }  // namespace semvox

@@ -403,7 +403,7 @@ Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::v
 }
 
 Status WriteVoxelMesh(const VoxelGrid& grid, const SemanticMap& map, const std::string& ply_path,
-                      const std::string& obj_path, VoxelMeshStats* stats) {
+                      const std::string& obj_path, VoxelMeshStats* stats, const Eigen::Isometry3d& input_from_world) {
   // Corners of each face, counter-clockwise seen from outside (normal = the face direction kFace6[f]).
   static constexpr int kCorners[6][4][3] = {
       {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}}, {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}},
@@ -433,6 +433,8 @@ Status WriteVoxelMesh(const VoxelGrid& grid, const SemanticMap& map, const std::
     }
   }
   if (stats) stats->vertices = vertices.size(), stats->quads = quads.size();
+  if (!IsIdentity(input_from_world))
+    for (Eigen::Vector3d& v : vertices) v = input_from_world * v;
 
   // PLY: two triangles per quad, per-face colour and label.
   {

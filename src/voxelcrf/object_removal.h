@@ -36,6 +36,7 @@
 // colour of their already coloured 26-neighbours of that label), else the label's mean colour in the map.
 // Removed voxels labelled empty become free (the object is gone); unknown nodes labelled empty stay unknown.
 #pragma once
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -101,7 +102,9 @@ Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::v
 struct VoxelMeshStats {
   size_t vertices = 0, quads = 0;
 };
+// Vertices are mapped by `input_from_world` (the canonical frame of the run back to its input frame).
 Status WriteVoxelMesh(const VoxelGrid& grid, const SemanticMap& map, const std::string& ply_path,
-                      const std::string& obj_path, VoxelMeshStats* stats = nullptr);
+                      const std::string& obj_path, VoxelMeshStats* stats = nullptr,
+                      const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
 
 }  // namespace semvox

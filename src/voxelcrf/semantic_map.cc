@@ -105,12 +105,14 @@ void AssignRooms(const ImageU16& room_ids, const VoxelGrid& grid, SemanticMap* m
   }
 }
 
-Status WriteVoxelsPly(const SemanticMap& map, const std::string& path) {
+Status WriteVoxelsPly(const SemanticMap& map, const std::string& path, const Eigen::Isometry3d& input_from_world) {
+  const bool identity = IsIdentity(input_from_world);
   const size_t n = map.occupied.size();
   std::vector<double> x(n), y(n), z(n), red(n), green(n), blue(n), label(n), conf(n), room(n), completed(n);
   for (size_t i = 0; i < n; ++i) {
     const auto& r = map.occupied[i];
-    x[i] = r.centre.x(), y[i] = r.centre.y(), z[i] = r.centre.z();
+    const Eigen::Vector3d c = identity ? Eigen::Vector3d(r.centre.cast<double>()) : Eigen::Vector3d(input_from_world * r.centre.cast<double>());
+    x[i] = c.x(), y[i] = c.y(), z[i] = c.z();
     red[i] = r.rgb[0], green[i] = r.rgb[1], blue[i] = r.rgb[2];
     label[i] = r.label, conf[i] = r.confidence, room[i] = r.room, completed[i] = r.completed;
   }

@@ -6,6 +6,7 @@
 //   ImageU16 top = SemanticTopView(map, grid, floor_z, band);   // on the occupancy grid
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -51,7 +52,8 @@ void AssignRooms(const ImageU16& room_ids, const VoxelGrid& grid, SemanticMap* m
 
 // voxels.ply: binary little-endian; vertex x, y, z (float, voxel centre, metres, input frame), red, green,
 // blue (uchar), label (ushort, NYU40), confidence (float), room (int), completed (uchar). Atomic.
-Status WriteVoxelsPly(const SemanticMap& map, const std::string& path);
+Status WriteVoxelsPly(const SemanticMap& map, const std::string& path,
+                      const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
 
 // NYU40 label of the highest occupied voxel per column whose centre lies in [floor + band_min, floor +
 // band_max) metres, on the occupancy grid (width dims[0], height dims[1], row 0 = largest y); 0 = none.
