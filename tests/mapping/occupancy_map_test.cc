@@ -55,6 +55,21 @@ TEST(Occupancy, RoundTripsThroughPgmAndYaml) {
   EXPECT_EQ(back->image.data, m.image.data);
   EXPECT_DOUBLE_EQ(back->resolution, 0.1);
   EXPECT_NEAR(back->origin_x, 1.0, 1e-9);
+  EXPECT_EQ(back->origin_yaw, 0.0);
+}
+
+// A grid on a canonical frame turned against the input frame (mapping/scene_frame.h): the yaw is
+// map_server's third origin value.
+TEST(Occupancy, OriginCarriesTheYaw) {
+  testing::ScratchDir dir("occ_yaw");
+  OccupancyMap m = ComputeOccupancy(SmallGrid(), 0.0, OccupancyOptions());
+  m.origin_yaw = 0.3316125579;  // 19 degrees.
+  ASSERT_TRUE(WriteOccupancyMap(m, dir.path().string(), "occupancy").ok());
+  const std::string yaml = testing::ReadText(dir.File("occupancy.yaml"));
+  EXPECT_NE(yaml.find("origin: [1, 2, 0.3316125579]"), std::string::npos) << yaml;
+  Result<OccupancyMap> back = ReadOccupancyMap(dir.File("occupancy.yaml"));
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_NEAR(back->origin_yaw, 0.3316125579, 1e-12);
 }
 
 TEST(OctomapFile, HoldsExactlyTheFreeAndOccupiedVoxels) {
