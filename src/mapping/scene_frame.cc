@@ -303,9 +303,19 @@ SceneFrame EstimateSceneFrame(const Scene& scene, const SceneFrameOptions& o) {
   }
   const FloorCeiling fc = DetectFloorCeiling(up, down, o.bin_m, o.min_floor_to_ceiling_m);
   if (fc.floor_found) {
+    // The rule's height averages over +-1 bin (rugs, skirting, low tops pull it up by a millimetre or so);
+    // the floor plane itself is the mean of the horizontal surfaces within 1 cm of it. A floor off by a
+    // millimetre below z = 0 would fall into the voxel layer below.
+    double z = fc.floor_z;
+    for (int it = 0; it < 2; ++it) {
+      double sw = 0, sz = 0;
+      for (const auto& [h, w] : up)
+        if (std::fabs(h - z) <= 0.01) sw += w, sz += w * h;
+      if (sw > 0) z = sz / sw;
+    }
     f.floor_found = true;
-    f.floor_measured_z = fc.floor_z;
-    f.floor_z = std::fabs(fc.floor_z) < o.snap_floor_m ? 0.0 : fc.floor_z;
+    f.floor_measured_z = z;
+    f.floor_z = std::fabs(z) < o.snap_floor_m ? 0.0 : z;
   }
 
   // (c) Yaw of the walls in the levelled frame.

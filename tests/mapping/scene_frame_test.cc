@@ -9,9 +9,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <random>
 
 #include "io/load_scene.h"
+#include "mapping/cloud_geometry.h"
 #include "scenegen/apartment.h"
 
 namespace semvox {
@@ -173,6 +176,45 @@ TEST(SceneFrame, TransformSceneMovesPointsAndRotatesNormals) {
   TransformScene(t, &s);
   EXPECT_NEAR((s.cloud.points[0] - Eigen::Vector3f(0, 1, 2)).norm(), 0.0f, 1e-6f);
   EXPECT_NEAR((s.cloud.normals[0] - Eigen::Vector3f(0, 1, 0)).norm(), 0.0f, 1e-6f);
+}
+
+// The real ScanNet studio (a cloud, +Z up, walls turned by about 19 degrees) from ../shared/data; skipped when
+// absent. ScanNet's axis_align_matrix (gt.json) turns it by -19.0 degrees about z and lowers it by 0.064 m.
+// The estimate is compared with it modulo 90 degrees; the wall-normal azimuths of the two wall families are
+// printed on their own (are the walls square?).
+TEST(SceneFrame, ScanNetStudio) {
+  const std::string dir = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/scannet_scene0000_00";
+  if (!std::filesystem::exists(dir + "/scene0000_00.ply")) GTEST_SKIP() << dir << " absent";
+  Result<Scene> scene = LoadScene(dir + "/scene0000_00.ply");
+  ASSERT_TRUE(scene.ok()) << scene.status().message();
+  const SceneFrame f = EstimateSceneFrame(scene.value());
+  std::printf("studio: %zu points; up (%.4f %.4f %.4f), tilt %.3f deg, yaw %.3f deg, floor %.4f m, %zu warnings, %.3f s\n",
+              scene->cloud.points.size(), f.up.x(), f.up.y(), f.up.z(), f.tilt_deg, f.yaw_deg, f.floor_z, f.warnings.size(),
+              f.seconds);
+  // Azimuth of wall normals (after levelling) per family, circular means within 5 degrees of yaw and yaw + 90.
+  Scene levelled = scene.value();
+  Eigen::Isometry3d level = Eigen::Isometry3d::Identity();
+  level.linear() = f.canonical_from_input.linear();  // Includes Rz(-yaw): azimuths relative to the yaw.
+  TransformScene(level, &levelled);
+  const CloudGeometry geo = EstimateCloudGeometry(levelled.cloud, 12);
+  for (double family : {0.0, 90.0}) {
+    double c = 0, sn = 0, w = 0;
+    for (const auto& n : geo.normals) {
+      if (std::fabs(n.z()) > std::sin(10 * kDeg)) continue;
+      const double a = std::atan2(n.y(), n.x()) / kDeg;
+      const double d = std::remainder(a - family, 180.0);
+      if (std::fabs(d) > 5) continue;
+      c += std::cos(2 * d * kDeg), sn += std::sin(2 * d * kDeg), w += 1;
+    }
+    std::printf("studio: walls with normals near %.0f deg: %.0f points, mean offset %.3f deg\n", family, w,
+                std::atan2(sn, c) / 2 / kDeg);
+  }
+  EXPECT_TRUE(f.up_found);
+  EXPECT_LT(f.tilt_deg, 3.0);
+  EXPECT_TRUE(f.yaw_found);
+  EXPECT_LT(std::fabs(Mod90Diff(f.yaw_deg, 19.0)), 1.5);  // ScanNet's own alignment is an estimate too.
+  EXPECT_NEAR(f.floor_z, 0.05, 0.05);
+  EXPECT_LT(f.seconds, 1.0);
 }
 
 }  // namespace
