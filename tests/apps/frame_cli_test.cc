@@ -5,10 +5,11 @@
 // original run (agreement), and both runs are scored against the ground-truth mesh (visible-voxel accuracy,
 // docs/metrics.md (b)); the moved run is scored on its own canonical grid (ground-truth mesh moved there), so
 // that resampling one grid onto the other does not count as an error.
-// Measured 2026-12-02 (Release, seed 102, 3 rooms at most): rooms 1 / 1; nearest-voxel label agreement 0.920
+// Measured 2026-12-02 (Release, seed 102 with 2 rooms): rooms 2 / 2; nearest-voxel label agreement 0.936
 // (boundary voxels of a 17-degree-turned grid match a neighbour of another label, and the views differ);
-// visible-voxel accuracy 0.783 original, 0.768 moved (0.742 resampled onto the original grid): within 2
-// points. Seed 103: agreement 0.915, accuracy 0.802 vs 0.799. Estimated yaw 17.008, tilt 2.020 degrees.
+// visible-voxel accuracy 0.815 original, 0.798 moved (0.775 resampled onto the original grid): 1.7 points
+// apart, within the 2 points of the issue (agreement >= 0.98 is not reached). Estimated yaw 17.000, tilt
+// 1.985 degrees. Earlier variants: seed 102 with one room 0.783 vs 0.768; seed 103, one room, 0.802 vs 0.799.
 // Two runs, 50-80 s in Release; skipped under the sanitizers.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -72,7 +73,7 @@ TEST(FrameCli, TurnedTiltedShiftedApartmentGivesTheSameRoomsAndLabels) {
   testing::ScratchDir dir("frame_cli");
   const std::string gt = dir.File("gt"), a = dir.File("a"), b = dir.File("b"), log = dir.File("log.txt");
   const std::string config = std::string(SEMVOX_SOURCE_DIR) + "/tests/data/semantic.yaml";
-  ASSERT_EQ(RunSemvox("generate --seed 102 --set apartment.max_rooms=3 -o " + gt, log), 0) << testing::ReadText(log);
+  ASSERT_EQ(RunSemvox("generate --seed 102 --set apartment.min_rooms=2 --set apartment.max_rooms=3 -o " + gt, log), 0) << testing::ReadText(log);
   Result<Scene> scene = LoadScene(gt + "/mesh.ply");
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // moved_from_original
