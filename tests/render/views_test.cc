@@ -163,6 +163,25 @@ TEST(RenderViews, DemoApartmentKeptViewsSeeItsSurface) {
   EXPECT_EQ(first["world_from_camera"].size(), 4u);
   EXPECT_EQ(first["thumbnail"], "views/view_00000.png");
   for (const auto& v : j["views"]) EXPECT_EQ(v["kept"].get<bool>(), v["drop_reason"] == "");
+
+  // With the canonical frame turned and shifted against the input frame, positions and poses are mapped into
+  // the input frame; yaws turn with the frame.
+  Eigen::Isometry3d input_from_world = Eigen::Isometry3d::Identity();
+  input_from_world.rotate(Eigen::AngleAxisd(20.0 * M_PI / 180, Eigen::Vector3d::UnitZ()));
+  input_from_world.pretranslate(Eigen::Vector3d(1.0, 2.0, 0.5));
+  const nlohmann::json m = nlohmann::json::parse(ViewsToJson(views.value(), options, false, input_from_world));
+  EXPECT_NEAR(m["camera_z"].get<double>(), views->view_z + 0.5, 1e-9);
+  const Eigen::Vector3d p0 = input_from_world * views->positions[0];
+  EXPECT_NEAR(m["positions"][0][0].get<double>(), p0.x(), 1e-9);
+  EXPECT_NEAR(m["positions"][0][1].get<double>(), p0.y(), 1e-9);
+  for (size_t i = 0; i < 3; ++i) {
+    const auto& v = m["views"][i];
+    EXPECT_NEAR(std::remainder(v["yaw_deg"].get<double>() - views->views[i].yaw_deg - 20.0, 360.0), 0.0, 1e-6);
+    EXPECT_NEAR(v["pitch_deg"].get<double>(), views->views[i].pitch_deg, 1e-6);
+    const Eigen::Matrix4d t = (input_from_world * views->views[i].world_from_camera).matrix();
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) EXPECT_NEAR(v["world_from_camera"][r][c].get<double>(), t(r, c), 1e-9);
+  }
 }
 
 }  // namespace

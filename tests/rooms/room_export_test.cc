@@ -19,6 +19,32 @@ double RingArea(const nlohmann::json& ring) {
   return 0.5 * a;
 }
 
+// A plan on a canonical grid turned against the input frame (mapping/scene_frame.h): polygon vertices are
+// mapped into the input frame; areas and orientation survive the rigid transform.
+TEST(RoomsToGeoJson, MapsPolygonsIntoTheInputFrame) {
+  const testing::GreyMap map = testing::TwoRoomsWithDoor();
+  const FloorPlan plan = FloorPlanFromImage(map.image, 0.05, FloorPlanOptions());
+  const RoomSegmentation rooms = SegmentRooms(plan, RoomSegmentationOptions());
+  const std::vector<RoomDescription> described = DescribeRooms(plan, rooms);
+  Eigen::Isometry3d input_from_world = Eigen::Isometry3d::Identity();
+  input_from_world.rotate(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()));
+  input_from_world.pretranslate(Eigen::Vector3d(1.5, -2.0, 0.7));
+  const nlohmann::json plain = nlohmann::json::parse(RoomsToGeoJson(described));
+  const nlohmann::json moved = nlohmann::json::parse(RoomsToGeoJson(described, input_from_world));
+  ASSERT_EQ(plain["features"].size(), moved["features"].size());
+  for (size_t f = 0; f < plain["features"].size(); ++f) {
+    const auto& a = plain["features"][f]["geometry"]["coordinates"][0];
+    const auto& b = moved["features"][f]["geometry"]["coordinates"][0];
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+      const Eigen::Vector3d q = input_from_world * Eigen::Vector3d(a[i][0].get<double>(), a[i][1].get<double>(), 0.0);
+      EXPECT_NEAR(b[i][0].get<double>(), q.x(), 2e-4);
+      EXPECT_NEAR(b[i][1].get<double>(), q.y(), 2e-4);
+    }
+    EXPECT_NEAR(RingArea(a), RingArea(b), 1e-3);
+  }
+}
+
 TEST(WriteRoomOutputs, WritesIdsGeoJsonAndSvg) {
   testing::ScratchDir dir("rooms_export");
   const testing::GreyMap map = testing::TwoRoomsWithDoor();
