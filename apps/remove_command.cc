@@ -144,9 +144,19 @@ Status RunRemove(const RemoveArgs& args) {
   const std::vector<int32_t> instance = LabelInstances(run.grid, run.map, &instances);
   if (args.list) {
     std::printf("%-8s %-6s %-16s %8s  %-24s %-24s\n", "instance", "label", "name", "voxels", "min (m)", "max (m)");
-    for (const auto& in : instances)
+    for (const auto& in : instances) {
+      // The bounding box in the run's input frame (of the canonical box's corners when the frame was applied).
+      Eigen::Vector3d lo = in.min.cast<double>(), hi = in.max.cast<double>();
+      if (!IsIdentity(run.input_from_world)) {
+        Eigen::AlignedBox3d box;
+        for (int c = 0; c < 8; ++c)
+          box.extend(run.input_from_world * Eigen::Vector3d(c & 1 ? in.max.x() : in.min.x(), c & 2 ? in.max.y() : in.min.y(),
+                                                            c & 4 ? in.max.z() : in.min.z()));
+        lo = box.min(), hi = box.max();
+      }
       std::printf("%-8d %-6d %-16s %8zu  %7.2f %7.2f %7.2f  %7.2f %7.2f %7.2f\n", in.id, int(in.label), LabelName(in.label).c_str(), in.voxels,
-                  in.min.x(), in.min.y(), in.min.z(), in.max.x(), in.max.y(), in.max.z());
+                  lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z());
+    }
     return Status::Ok();
   }
   for (int id : selection.instances)

@@ -80,6 +80,8 @@ Status RunPipeline(const RunArgs& args) {
     fo.horizontal_normal_deg = config.voxelize.horizontal_normal_deg;
     fo.min_floor_to_ceiling_m = config.voxelize.min_floor_to_ceiling_m;
     fo.cloud_normal_neighbors = config.voxelize.cloud_normal_neighbors;
+    std::string error;
+    if (!fo.Check(&error)) return Status::InvalidInput("configuration: " + error);
     frame = EstimateSceneFrame(scene, fo);
     for (const std::string& w : frame.warnings) SEMVOX_WARN(w);
     if (!frame.identity()) {
@@ -269,7 +271,6 @@ Status RunPipeline(const RunArgs& args) {
                   {"yaw_found", frame.yaw_found},
                   {"floor_z_input", frame.floor_z},
                   {"floor_found", frame.floor_found},
-                  {"seconds", frame.seconds},
                   {"warnings", frame.warnings}};
   }
   nlohmann::json positions = nlohmann::json::array();
