@@ -215,6 +215,14 @@ TEST(SceneFrame, ScanNetStudio) {
   EXPECT_LT(std::fabs(Mod90Diff(f.yaw_deg, 19.0)), 1.5);  // ScanNet's own alignment is an estimate too.
   EXPECT_NEAR(f.floor_z, 0.05, 0.05);
   EXPECT_LT(f.seconds, 1.0);
+  // Upside down (turned by 180 degrees about x): the furniture tells, as on generated apartments.
+  Scene flipped = scene.value();
+  Eigen::Isometry3d flip = Eigen::Isometry3d::Identity();
+  flip.rotate(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));
+  TransformScene(flip, &flipped);
+  const SceneFrame g = EstimateSceneFrame(flipped);
+  EXPECT_TRUE(g.upside_down);
+  EXPECT_TRUE(NamesUp(g));
 }
 
 }  // namespace
