@@ -71,10 +71,16 @@ int main(int argc, char** argv) {
                       "see docs/generator.md)");
 
   semvox::EvalArgs eval;
-  CLI::App* eval_cmd = app.add_subcommand("eval", "score `semvox run` outputs against a generated apartment's ground truth");
+  CLI::App* eval_cmd = app.add_subcommand("eval", "score `semvox run` outputs against a generated apartment's ground truth "
+                                          "or a real scan's furniture boxes");
   eval_cmd->add_option("--pred", eval.pred_dir, "OUTDIR of semvox run")->required();
-  eval_cmd->add_option("--gt", eval.gt_dir, "directory written by semvox generate --seed N")->required();
-  eval_cmd->add_option("-o,--output", eval.output, "eval.json path (default PRED/eval.json)");
+  auto* eval_gt = eval_cmd->add_option("--gt", eval.gt_dir, "directory written by semvox generate --seed N");
+  auto* eval_boxes = eval_cmd->add_option("--boxes", eval.boxes_path,
+                                          "real scan: gt.json with axis_align_matrix and boxes_in_aligned_frame (docs/metrics.md)");
+  eval_gt->excludes(eval_boxes);
+  eval_cmd->add_option("-o,--output", eval.output, "JSON report path (default PRED/eval.json with --gt, none with --boxes)");
+  eval_cmd->add_flag("--json", eval.json, "print the JSON report on stdout instead of the table");
+  eval_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
 
   semvox::TrainArgs train;
   CLI::App* train_cmd = app.add_subcommand("train", "train the per-view classifiers on generated apartments and write models/");

@@ -1,0 +1,365 @@
+#include "eval/box_eval.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "core/file_util.h"
+#include "core/labels.h"
+#include "core/ply.h"
+
+namespace semvox {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kGtHint = "expected {\"axis_align_matrix\": 4x4 rows, \"boxes_in_aligned_frame\": [{\"class\", \"nyu40\", "
+                                "\"centre_size\": [cx, cy, cz, dx, dy, dz]}]}; see docs/metrics.md";
+
+Status GtError(const std::string& name, const std::string& what) { return Status::InvalidInput(FileError(name, what, kGtHint)); }
+
+// A finite number at j, else false.
+bool Number(const nlohmann::json& j, double* v) {
+  if (!j.is_number()) return false;
+  *v = j.get<double>();
+  return std::isfinite(*v);
+}
+
+double Ratio(size_t num, size_t den) { return den ? double(num) / double(den) : 0.0; }
+
+std::string LabelName(int id) { return id >= 0 && id < kNumNyu40 ? Nyu40Labels()[size_t(id)].name : "id " + std::to_string(id); }
+
+// Table (7) and desk (14) stand for each other; other labels only for themselves.
+bool Matches(int predicted, int box_label) {
+  using namespace nyu40;
+  if (predicted == box_label) return true;
+  const auto table_like = [](int l) { return l == kTable || l == kDesk; };
+  return table_like(predicted) && table_like(box_label);
+}
+
+double Round6(double v) { return std::round(v * 1e6) / 1e6; }
+
+}  // namespace
+
+Result<BoxGroundTruth> ParseBoxGroundTruth(const std::string& text, const std::string& name) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    return GtError(name, std::string("not valid JSON: ") + e.what());
+  }
+  if (!j.is_object()) return GtError(name, "expected a JSON object at the top level");
+  BoxGroundTruth gt;
+  gt.path = name;
+  const auto m = j.find("axis_align_matrix");
+  if (m == j.end()) return GtError(name, "missing field axis_align_matrix");
+  if (!m->is_array() || m->size() != 4) return GtError(name, "axis_align_matrix: expected 4 rows of 4 numbers");
+  for (int r = 0; r < 4; ++r) {
+    const nlohmann::json& row = (*m)[size_t(r)];
+    if (!row.is_array() || row.size() != 4) return GtError(name, "axis_align_matrix: expected 4 rows of 4 numbers");
+    for (int c = 0; c < 4; ++c)
+      if (!Number(row[size_t(c)], &gt.axis_align(r, c)))
+        return GtError(name, "axis_align_matrix[" + std::to_string(r) + "][" + std::to_string(c) + "]: expected a finite number");
+  }
+  const auto b = j.find("boxes_in_aligned_frame");
+  if (b == j.end()) return GtError(name, "missing field boxes_in_aligned_frame");
+  if (!b->is_array()) return GtError(name, "boxes_in_aligned_frame: expected an array of boxes");
+  for (size_t i = 0; i < b->size(); ++i) {
+    const nlohmann::json& box = (*b)[i];
+    const std::string where = "boxes_in_aligned_frame[" + std::to_string(i) + "]";
+    if (!box.is_object()) return GtError(name, where + ": expected an object");
+    GroundTruthBox g;
+    const auto cls = box.find("class");
+    if (cls == box.end() || !cls->is_string()) return GtError(name, where + ".class: missing or not a string");
+    g.class_name = cls->get<std::string>();
+    const auto id = box.find("nyu40");
+    if (id == box.end() || !id->is_number_integer()) return GtError(name, where + ".nyu40: missing or not an integer");
+    g.nyu40 = id->get<int>();
+    if (g.nyu40 < 1 || g.nyu40 >= kNumNyu40) return GtError(name, where + ".nyu40: " + std::to_string(g.nyu40) + " is outside 1..40");
+    const auto cs = box.find("centre_size");
+    if (cs == box.end() || !cs->is_array() || cs->size() != 6) return GtError(name, where + ".centre_size: expected 6 numbers (cx cy cz dx dy dz)");
+    for (int k = 0; k < 6; ++k) {
+      double v;
+      if (!Number((*cs)[size_t(k)], &v)) return GtError(name, where + ".centre_size[" + std::to_string(k) + "]: expected a finite number");
+      if (k < 3) g.centre[k] = v;
+      else if (v < 0) return GtError(name, where + ".centre_size[" + std::to_string(k) + "]: negative size");
+      else g.size[k - 3] = v;
+    }
+    gt.boxes.push_back(std::move(g));
+  }
+  return gt;
+}
+
+Result<BoxGroundTruth> ReadBoxGroundTruth(const std::string& path) {
+  std::string bytes;
+  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  return ParseBoxGroundTruth(bytes, path);
+}
+
+Result<RunVoxels> ReadRunVoxels(const std::string& path, double voxel_size_m) {
+  Result<PlyData> ply = ReadPly(path);
+  if (!ply.ok()) return ply.status();
+  const PlyElement* v = ply->Find("vertex");
+  const PlyProperty *x = v ? v->Find("x") : nullptr, *y = v ? v->Find("y") : nullptr, *z = v ? v->Find("z") : nullptr;
+  if (!x || !y || !z) return Status::InvalidInput(FileError(path, "expected vertices with x, y, z", "pass the voxels.ply of `semvox run`"));
+  const PlyProperty* label = v->Find("label");
+  if (!label)
+    return Status::InvalidInput(FileError(path, "vertices have no label property",
+                                          "pass the voxels.ply of `semvox run`, which has one NYU40 label per voxel"));
+  RunVoxels out;
+  out.voxel_size_m = voxel_size_m;
+  out.centres.reserve(v->count);
+  out.labels.reserve(v->count);
+  for (size_t i = 0; i < v->count; ++i) {
+    out.centres.emplace_back(x->values[i], y->values[i], z->values[i]);
+    out.labels.push_back(int(label->values[i]));
+  }
+  return out;
+}
+
+double EstimateFloorHeight(const std::vector<double>& z, double voxel_size_m) {
+  if (z.empty() || !(voxel_size_m > 0)) return 0.0;
+  const double lo = *std::min_element(z.begin(), z.end());
+  // Level k holds the centres nearest lo + k * voxel: voxels of one grid share a level exactly.
+  std::map<long, size_t> levels;
+  for (double v : z) ++levels[std::lround((v - lo) / voxel_size_m)];
+  size_t peak = 0;
+  for (const auto& [k, n] : levels) peak = std::max(peak, n);
+  for (const auto& [k, n] : levels)
+    if (double(n) >= kFloorLevelShare * double(peak)) return lo + (double(k) - 0.5) * voxel_size_m;
+  return lo - 0.5 * voxel_size_m;  // Not reached: the peak level qualifies.
+}
+
+BoxEvalReport EvaluateBoxes(const RunVoxels& voxels, const BoxGroundTruth& gt) {
+  BoxEvalReport rep;
+  rep.gt_path = gt.path;
+  const size_t n = std::min(voxels.centres.size(), voxels.labels.size());
+  rep.occupied = n;
+  std::vector<Eigen::Vector3d> q(n);
+  const Eigen::Matrix3d rot = gt.axis_align.topLeftCorner<3, 3>();
+  const Eigen::Vector3d shift = gt.axis_align.topRightCorner<3, 1>();
+  for (size_t i = 0; i < n; ++i) q[i] = rot * voxels.centres[i] + shift;
+
+  std::vector<char> in_any(n, 0);
+  double recall_sum = 0;
+  for (const GroundTruthBox& box : gt.boxes) {
+    BoxScore s;
+    s.class_name = box.class_name;
+    s.nyu40 = box.nyu40;
+    const Eigen::Vector3d half = 0.5 * box.size;
+    std::map<int, size_t> counts;
+    for (size_t i = 0; i < n; ++i) {
+      if (((q[i] - box.centre).cwiseAbs().array() > half.array()).any()) continue;
+      in_any[i] = 1;
+      ++s.voxels;
+      ++counts[voxels.labels[i]];
+      if (Matches(voxels.labels[i], box.nyu40)) ++s.correct;
+    }
+    for (const auto& [label, count] : counts) s.top.push_back({label, count});
+    std::stable_sort(s.top.begin(), s.top.end(), [](const LabelCount& a, const LabelCount& b) { return a.count > b.count; });
+    if (s.top.size() > 3) s.top.resize(3);
+    if (s.voxels) {
+      s.recall = Score{true, Ratio(s.correct, s.voxels), std::to_string(s.voxels) + " voxels"};
+      recall_sum += s.recall.value;
+      ++rep.boxes_scored;
+    } else {
+      s.recall = Score{false, 0.0, "no voxel inside the box"};
+    }
+    ClassScore& c = rep.per_class[box.class_name];
+    c.nyu40 = box.nyu40;
+    ++c.boxes;
+    c.voxels += s.voxels;
+    c.correct += s.correct;
+    rep.boxes.push_back(std::move(s));
+  }
+  for (auto& [name, c] : rep.per_class)
+    c.recall = c.voxels ? Score{true, Ratio(c.correct, c.voxels), std::to_string(c.boxes) + " boxes, " + std::to_string(c.voxels) + " voxels"}
+                        : Score{false, 0.0, "no voxel inside its boxes"};
+  rep.mean_box_recall = rep.boxes_scored
+                            ? Score{true, recall_sum / rep.boxes_scored,
+                                    std::to_string(rep.boxes_scored) + " of " + std::to_string(gt.boxes.size()) + " boxes hold voxels"}
+                            : Score{false, 0.0, "no box holds a voxel"};
+
+  // Floor band and wall share.
+  std::vector<double> z(n);
+  for (size_t i = 0; i < n; ++i) z[i] = q[i].z();
+  rep.floor_z_m = EstimateFloorHeight(z, voxels.voxel_size_m);
+  size_t floor_ok = 0, walls = 0;
+  for (size_t i = 0; i < n; ++i) {
+    walls += voxels.labels[i] == nyu40::kWall;
+    if (in_any[i] || z[i] < rep.floor_z_m || z[i] >= rep.floor_z_m + kFloorBandM) continue;
+    ++rep.floor_band_voxels;
+    floor_ok += voxels.labels[i] == nyu40::kFloor;
+  }
+  std::ostringstream band;
+  band << rep.floor_band_voxels << " voxels in the band [" << std::fixed << std::setprecision(3) << rep.floor_z_m << ", "
+       << rep.floor_z_m + kFloorBandM << ") m, outside every box";
+  rep.floor_recall = rep.floor_band_voxels ? Score{true, Ratio(floor_ok, rep.floor_band_voxels), band.str()}
+                                           : Score{false, 0.0, "no voxel in the floor band"};
+  rep.wall_share = n ? Score{true, Ratio(walls, n), std::to_string(n) + " occupied voxels"} : Score{false, 0.0, "no occupied voxel"};
+  rep.rooms_present = Score{false, 0.0, "rooms.geojson not read"};
+  return rep;
+}
+
+Result<std::vector<RoomFound>> ReadRoomsFound(const std::string& path) {
+  std::string bytes;
+  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  std::vector<RoomFound> rooms;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(bytes);
+    for (const auto& f : j.at("features")) {
+      const auto& p = f.at("properties");
+      RoomFound r;
+      r.id = p.at("id").get<int>();
+      r.type = p.at("type").get<std::string>();
+      r.area_m2 = p.at("area_m2").get<double>();
+      rooms.push_back(std::move(r));
+    }
+  } catch (const nlohmann::json::exception& e) {
+    return Status::InvalidInput(FileError(path, std::string("expected a FeatureCollection whose features have properties "
+                                                            "id, type and area_m2: ") + e.what()));
+  }
+  return rooms;
+}
+
+Result<std::vector<std::pair<std::string, double>>> ReadRunSeconds(const std::string& path, double* voxel_size_m) {
+  std::string bytes;
+  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  std::vector<std::pair<std::string, double>> out;
+  try {
+    const nlohmann::ordered_json j = nlohmann::ordered_json::parse(bytes);
+    const auto size = j.find("voxel_size_m");
+    if (voxel_size_m && size != j.end() && size->is_number() && size->get<double>() > 0) *voxel_size_m = size->get<double>();
+    const auto s = j.find("seconds");
+    if (s == j.end()) return out;
+    for (const auto& [stage, v] : s->items()) out.emplace_back(stage, v.get<double>());
+  } catch (const nlohmann::json::exception& e) {
+    return Status::InvalidInput(FileError(path, std::string("expected a JSON object whose \"seconds\" maps stages to numbers: ") + e.what(),
+                                          "pass the OUTDIR of `semvox run`"));
+  }
+  return out;
+}
+
+Result<BoxEvalReport> EvaluateRunAgainstBoxes(const std::string& pred_dir, const std::string& gt_path) {
+  std::error_code ec;
+  if (!fs::is_directory(pred_dir, ec))
+    return Status::InvalidInput(FileError(pred_dir, "not a directory", "pass the OUTDIR of `semvox run`"));
+  Result<BoxGroundTruth> gt = ReadBoxGroundTruth(gt_path);
+  if (!gt.ok()) return gt.status();
+  const auto path = [&](const char* name) { return (fs::path(pred_dir) / name).string(); };
+  double voxel_size_m = 0.05;
+  std::vector<std::pair<std::string, double>> seconds;
+  if (fs::exists(path("summary.json"), ec)) {
+    Result<std::vector<std::pair<std::string, double>>> s = ReadRunSeconds(path("summary.json"), &voxel_size_m);
+    if (!s.ok()) return s.status();
+    seconds = std::move(s.value());
+  }
+  Result<RunVoxels> voxels = ReadRunVoxels(path("voxels.ply"), voxel_size_m);
+  if (!voxels.ok()) return voxels.status();
+  BoxEvalReport rep = EvaluateBoxes(*voxels, *gt);
+  rep.pred_dir = pred_dir;
+  rep.seconds = std::move(seconds);
+  if (fs::exists(path("rooms.geojson"), ec)) {
+    Result<std::vector<RoomFound>> rooms = ReadRoomsFound(path("rooms.geojson"));
+    if (!rooms.ok()) return rooms.status();
+    rep.rooms = std::move(rooms.value());
+    rep.rooms_present = Score{true, 0.0, std::to_string(rep.rooms.size()) + " rooms"};
+  } else {
+    rep.rooms_present = Score{false, 0.0, "rooms.geojson not found"};
+  }
+  return rep;
+}
+
+namespace {
+nlohmann::ordered_json ScoreJson(const Score& s) {
+  nlohmann::ordered_json j;
+  j["present"] = s.present;
+  if (s.present) j["value"] = Round6(s.value);
+  if (!s.note.empty()) j["note"] = s.note;
+  return j;
+}
+}  // namespace
+
+std::string BoxEvalReport::ToJson() const {
+  nlohmann::ordered_json j;
+  j["pred"] = pred_dir;
+  j["gt"] = gt_path;
+  j["occupied"] = occupied;
+  nlohmann::ordered_json bs = nlohmann::ordered_json::array();
+  for (const BoxScore& b : boxes) {
+    nlohmann::ordered_json top = nlohmann::ordered_json::array();
+    for (const LabelCount& t : b.top) top.push_back({{"label", t.label}, {"name", LabelName(t.label)}, {"voxels", t.count}});
+    bs.push_back({{"class", b.class_name}, {"nyu40", b.nyu40}, {"voxels", b.voxels}, {"correct", b.correct},
+                  {"recall", ScoreJson(b.recall)}, {"top_labels", top}});
+  }
+  j["boxes"] = bs;
+  nlohmann::ordered_json pc = nlohmann::ordered_json::object();
+  for (const auto& [name, c] : per_class)
+    pc[name] = {{"nyu40", c.nyu40}, {"boxes", c.boxes}, {"voxels", c.voxels}, {"correct", c.correct}, {"recall", ScoreJson(c.recall)}};
+  j["per_class"] = pc;
+  j["mean_box_recall"] = ScoreJson(mean_box_recall);
+  j["boxes_scored"] = boxes_scored;
+  j["floor_z_m"] = Round6(floor_z_m);
+  j["floor_band_m"] = kFloorBandM;
+  j["floor_band_voxels"] = floor_band_voxels;
+  j["floor_recall"] = ScoreJson(floor_recall);
+  j["wall_share"] = ScoreJson(wall_share);
+  nlohmann::ordered_json rs = nlohmann::ordered_json::array();
+  for (const RoomFound& r : rooms) rs.push_back({{"id", r.id}, {"type", r.type}, {"area_m2", Round6(r.area_m2)}});
+  j["rooms_present"] = ScoreJson(rooms_present);
+  j["rooms"] = rs;
+  nlohmann::ordered_json sec = nlohmann::ordered_json::object();
+  for (const auto& [stage, s] : seconds) sec[stage] = s;
+  j["seconds"] = sec;
+  return j.dump(2) + "\n";
+}
+
+std::string BoxEvalReport::Table() const {
+  std::ostringstream os;
+  const auto pct = [&](const Score& s) {
+    std::ostringstream p;
+    if (s.present) p << std::fixed << std::setprecision(1) << std::setw(6) << 100.0 * s.value << " %";
+    else p << std::setw(8) << "absent";
+    return p.str();
+  };
+  os << "semvox eval: " << pred_dir << " against boxes " << gt_path << " (" << occupied << " occupied voxels)\n";
+  os << "  " << std::left << std::setw(4) << "box" << std::setw(14) << "class" << std::right << std::setw(6) << "nyu40"
+     << std::setw(8) << "voxels" << std::setw(10) << "recall" << "   top labels (voxels)\n";
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const BoxScore& b = boxes[i];
+    os << "  " << std::left << std::setw(4) << i << std::setw(14) << b.class_name << std::right << std::setw(6) << b.nyu40
+       << std::setw(8) << b.voxels << std::setw(10) << pct(b.recall) << "  ";
+    for (const LabelCount& t : b.top) os << " " << LabelName(t.label) << " (" << t.count << ")";
+    os << "\n";
+  }
+  os << "  per class:\n";
+  for (const auto& [name, c] : per_class)
+    os << "    " << std::left << std::setw(14) << name << std::right << std::setw(10) << pct(c.recall) << "   (" << c.boxes << " boxes, "
+       << c.voxels << " voxels)\n";
+  const auto row = [&](const char* name, const Score& s) {
+    os << "  " << std::left << std::setw(26) << name << std::right << std::setw(10) << pct(s);
+    if (!s.note.empty()) os << "   (" << s.note << ")";
+    os << "\n";
+  };
+  row("mean box recall", mean_box_recall);
+  row("floor recall", floor_recall);
+  row("wall share", wall_share);
+  os << "  rooms:";
+  if (!rooms_present.present) os << " absent (" << rooms_present.note << ")";
+  else if (rooms.empty()) os << " none";
+  for (const RoomFound& r : rooms) os << " " << r.type << " " << std::fixed << std::setprecision(1) << r.area_m2 << " m2;";
+  os << "\n  run seconds:";
+  if (seconds.empty()) os << " absent (no summary.json or no seconds in it)";
+  for (const auto& [stage, s] : seconds)
+    if (stage == "total") os << " total " << std::fixed << std::setprecision(1) << s << ";";
+  for (const auto& [stage, s] : seconds)
+    if (stage != "total") os << " " << stage << " " << std::fixed << std::setprecision(1) << s;
+  os << "\n";
+  return os.str();
+}
+
+}  // namespace semvox

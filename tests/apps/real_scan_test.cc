@@ -1,0 +1,137 @@
+// A real scan end to end (issue 16, item 5): `semvox run` on the ScanNet studio (scene0000_00, a sparse fused
+// colour point cloud from ../shared/data) and `semvox eval --boxes` against its 27 furniture boxes
+// (docs/metrics.md, "Real scans: box scores"). Skipped when the data is absent, and in the sanitizer build
+// (one run takes 3-8 minutes in Release on 2 cores, depending on load). The per-box table goes to the test log.
+//
+// The floors below are stated with the value measured on the current models (Release, /tmp/runs/studio0 of
+// issue 16); the lead raises them after retraining. Scores are fractions in [0, 1].
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/ply.h"
+#include "tests/test_util.h"
+
+namespace semvox {
+namespace {
+
+// ---- Floors (measured on the current models in the comment) ----
+constexpr double kMinFloorRecall = 0.90;    // Floor band labelled floor; measured 0.986.
+constexpr double kMaxWallShare = 0.75;      // Occupied voxels labelled wall; measured 0.682.
+constexpr double kMinMeanBoxRecall = 0.0;   // Mean over boxes holding voxels; measured 0.017.
+constexpr int kMinRooms = 1;                // Rooms in rooms.geojson; measured 2 (living_room 36.3 m², 3.8 m²).
+// Per-class recall floors (gt.json class names; voxels pooled over the class's boxes). All 0 for now: the
+// per-view classifiers trained on generated apartments call almost everything in the studio wall.
+const std::map<std::string, double> kMinClassRecall = {
+    {"bed", 0.0},          // measured 0.000
+    {"cabinet", 0.0},      // measured 0.000
+    {"counter", 0.0},      // measured 0.000
+    {"curtain", 0.0},      // measured 0.000
+    {"desk", 0.0},         // measured 0.000 (table voxels count)
+    {"door", 0.0},         // measured 0.000
+    {"garbagebin", 0.0},   // measured 0.000
+    {"refrigerator", 0.0}, // measured 0.000
+    {"sink", 0.0},         // measured 0.000
+    {"sofa", 0.0},         // measured 0.001
+    {"table", 0.0},        // measured 0.019 (desk voxels count)
+    {"toilet", 0.0},       // measured 0.000
+    {"window", 0.0},       // measured 0.116
+};
+
+const std::string kDataDir = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/scannet_scene0000_00";
+
+int RunSemvox(const std::string& args, const std::string& log) {
+  const int rc = std::system((std::string(SEMVOX_BINARY) + " " + args + " > " + log + " 2>&1").c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
+#ifdef SEMVOX_SANITIZE_BUILD
+  GTEST_SKIP() << "too slow under sanitizers (one run of the studio takes about 3 minutes in Release)";
+#endif
+  const std::string scan = kDataDir + "/scene0000_00.ply", gt = kDataDir + "/gt.json";
+  if (!std::filesystem::exists(scan) || !std::filesystem::exists(gt)) GTEST_SKIP() << kDataDir << " not found";
+  testing::ScratchDir dir("real_scan");
+  const std::string out = dir.File("out"), log = dir.File("log.txt"), report = dir.File("eval_boxes.json");
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(RunSemvox("run " + scan + " -o " + out, log), 0) << testing::ReadText(log);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_EQ(RunSemvox("eval --pred " + out + " --boxes " + gt + " -o " + report + " -q", log), 0) << testing::ReadText(log);
+  std::printf("semvox run on the studio: %.1f s wall clock\n%s", seconds, testing::ReadText(log).c_str());
+
+  std::ifstream in(report);
+  const nlohmann::json e = nlohmann::json::parse(in);
+  ASSERT_TRUE(e["floor_recall"]["present"].get<bool>());
+  ASSERT_TRUE(e["wall_share"]["present"].get<bool>());
+  ASSERT_TRUE(e["mean_box_recall"]["present"].get<bool>()) << "no box holds a voxel: is axis_align_matrix applied?";
+  const double floor = e["floor_recall"]["value"].get<double>(), wall = e["wall_share"]["value"].get<double>(),
+               mean_box = e["mean_box_recall"]["value"].get<double>();
+  std::printf("floor recall %.3f (floor >= %.2f), wall share %.3f (<= %.2f), mean box recall %.3f (>= %.2f) over %d boxes\n", floor,
+              kMinFloorRecall, wall, kMaxWallShare, mean_box, kMinMeanBoxRecall, e["boxes_scored"].get<int>());
+  EXPECT_GE(floor, kMinFloorRecall) << "floor recall";
+  EXPECT_LE(wall, kMaxWallShare) << "wall share";
+  EXPECT_GE(mean_box, kMinMeanBoxRecall) << "mean box recall";
+  EXPECT_GE(int(e["rooms"].size()), kMinRooms) << "rooms found";
+  for (const auto& [name, c] : e["per_class"].items()) {
+    const double recall = c["recall"].value("value", 0.0);
+    std::printf("  class %-14s recall %.3f (%d boxes, %zu voxels)\n", name.c_str(), recall, c["boxes"].get<int>(),
+                c["voxels"].get<size_t>());
+    const auto floor_it = kMinClassRecall.find(name);
+    if (floor_it != kMinClassRecall.end()) {
+      EXPECT_GE(recall, floor_it->second) << name;
+    }
+  }
+}
+
+// Bad input to `semvox eval --boxes`: one error line on stderr and exit code 2. Needs no data.
+TEST(RealScan, BoxEvalBadInputGivesOneErrorLineAndExitCode2) {
+  testing::ScratchDir dir("real_scan_bad");
+  const std::string log = dir.File("log.txt");
+  const std::string run = dir.File("run");
+  std::filesystem::create_directories(run);
+  testing::WriteText(dir.File("gt.json"), R"({"axis_align_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]],
+    "boxes_in_aligned_frame": [{"class": "bed", "nyu40": 4, "centre_size": [0, 0, 0, 1, 1, 1]}]})");
+  testing::WriteText(dir.File("bad.json"), R"({"axis_align_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]})");
+  const auto expect_error = [&](const std::string& args, const std::string& what) {
+    EXPECT_EQ(RunSemvox(args, log), 2) << args;
+    const std::string text = testing::ReadText(log);
+    EXPECT_EQ(text.rfind("semvox: error: ", 0), 0u) << text;
+    EXPECT_NE(text.find(what), std::string::npos) << text;
+    EXPECT_EQ(text.find('\n'), text.size() - 1) << "one line: " << text;
+  };
+  // A run directory without voxels.ply, then a missing directory.
+  expect_error("eval --pred " + run + " --boxes " + dir.File("gt.json"), "voxels.ply");
+  expect_error("eval --pred " + dir.File("absent") + " --boxes " + dir.File("gt.json"), "not a directory");
+  // Missing and malformed ground truth.
+  expect_error("eval --pred " + run + " --boxes " + dir.File("absent.json"), "absent.json");
+  expect_error("eval --pred " + run + " --boxes " + dir.File("bad.json"), "missing field boxes_in_aligned_frame");
+  // voxels.ply without a label property.
+  PlyWriter w;
+  w.AddElement("vertex", 2);
+  for (const char* axis : {"x", "y", "z"}) w.AddProperty(axis, PlyType::kFloat32, {0.0, 0.05});
+  ASSERT_TRUE(w.Write(run + "/voxels.ply").ok());
+  expect_error("eval --pred " + run + " --boxes " + dir.File("gt.json"), "no label property");
+  // Neither --gt nor --boxes; both.
+  expect_error("eval --pred " + run, "--boxes");
+  expect_error("eval --pred " + run + " --gt " + run + " --boxes " + dir.File("gt.json"), "excludes");
+  // With a label the same call succeeds and --json prints the report.
+  PlyWriter ok;
+  ok.AddElement("vertex", 2);
+  for (const char* axis : {"x", "y", "z"}) ok.AddProperty(axis, PlyType::kFloat32, {0.0, 0.05});
+  ok.AddProperty("label", PlyType::kUInt16, {4.0, 1.0});
+  ASSERT_TRUE(ok.Write(run + "/voxels.ply").ok());
+  ASSERT_EQ(RunSemvox("eval --pred " + run + " --boxes " + dir.File("gt.json") + " --json -q", log), 0) << testing::ReadText(log);
+  const nlohmann::json e = nlohmann::json::parse(testing::ReadText(log));
+  EXPECT_DOUBLE_EQ(e["mean_box_recall"]["value"].get<double>(), 0.5);
+  EXPECT_FALSE(e["rooms_present"]["present"].get<bool>());
+}
+
+}  // namespace
+}  // namespace semvox
