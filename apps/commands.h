@@ -39,6 +39,7 @@ struct GenerateArgs {
   int seed = 0;
   bool cloud = false;  // Also simulate a scanner and write cloud.ply.
   bool clean = false;  // No scan artefacts in mesh.ply.
+  bool randomised = false;  // Also write scan.ply: the apartment scanned as the randomised training style does.
   std::vector<std::string> settings;  // "apartment.NAME=V", "artefacts.NAME=V", "scan.NAME=V" overrides.
 };
 
@@ -123,6 +124,7 @@ struct TrainArgs {
   bool voxel_crf_only = false;              // Train only the Voxel-CRF (needs the per-view models in outdir).
   std::string voxel_crf_seeds = "0-7";      // Generator seeds the Voxel-CRF weights are learned on.
   int voxel_crf_epochs = 12;                // Structural-SVM epochs.
+  std::string style = "flat";               // Training views: flat (the shipped models) or randomised (domain randomisation).
 };
 
 // `semvox train`: per-view classifiers (k-NN unaries, tree and union CRFs) from generated apartments.

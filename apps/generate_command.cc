@@ -6,6 +6,7 @@
 #include <map>
 
 #include "apps/commands.h"
+#include "perception/training_data.h"
 #include "core/file_util.h"
 #include "core/log.h"
 #include "core/mesh_ply.h"
@@ -135,6 +136,17 @@ Status RunGenerate(const GenerateArgs& args) {
     const std::string path = (std::filesystem::path(args.outdir) / "cloud.ply").string();
     SEMVOX_RETURN_IF_ERROR(WriteCloudPly(path, *cloud, "semvox simulated scan seed " + std::to_string(args.seed) +
                                                            "; point label = NYU40 id, instance, room"));
+  }
+  if (args.randomised) {
+    // The randomised validation style (perception/training_data.h, MakeTrainingScan): palette colours,
+    // textures and lighting baked in, a fused cloud of random spacing or a mesh with random artefacts.
+    TrainingViewsOptions style;
+    style.style = TrainingStyle::kRandomised;
+    Result<Scene> scan = MakeTrainingScan(*apt, uint64_t(args.seed), style);
+    if (!scan.ok()) return scan.status();
+    const std::string path = (std::filesystem::path(args.outdir) / "scan.ply").string();
+    const std::string comment = "semvox randomised scan seed " + std::to_string(args.seed);
+    SEMVOX_RETURN_IF_ERROR(scan->is_mesh() ? WriteMeshPly(path, scan->mesh, comment) : WriteCloudPly(path, scan->cloud, comment));
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   SEMVOX_INFO("apartment seed " << args.seed << ": " << apt->rooms.size() << " rooms, " << apt->objects.size()

@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
   gen_cmd->add_option("--seed", gen.seed, "random seed");
   gen_cmd->add_flag("--cloud", gen.cloud, "also simulate a scanner walk and write cloud.ply");
   gen_cmd->add_flag("--clean", gen.clean, "no scan artefacts in mesh.ply");
+  gen_cmd->add_flag("--randomised", gen.randomised, "also write scan.ply: the apartment scanned in the randomised style (palette colours, textures, lighting; a fused cloud of random spacing or a mesh with random artefacts)");
   gen_cmd->add_option("--set", gen.settings, "override an option: apartment.NAME=V, artefacts.NAME=V or scan.NAME=V (repeatable; "
                       "see docs/generator.md)");
 
@@ -92,6 +93,8 @@ int main(int argc, char** argv) {
   train_cmd->add_flag("--voxel-crf", train.voxel_crf_only, "train only the Voxel-CRF (per-view models must already be in the output directory)");
   train_cmd->add_option("--voxel-crf-seeds", train.voxel_crf_seeds, "generator seeds for the Voxel-CRF weights, e.g. 0-7");
   train_cmd->add_option("--voxel-crf-epochs", train.voxel_crf_epochs, "structural-SVM epochs of the Voxel-CRF")->check(CLI::PositiveNumber);
+  train_cmd->add_option("--style", train.style, "training views: flat (the generator's own colours; the shipped models) or randomised (palettes, textures, lighting, simulated clouds); validation is scored in both")
+      ->check(CLI::IsMember({"randomised", "randomized", "flat"}));
   train_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
 
   semvox::RenderArgs render;

@@ -15,6 +15,7 @@
 #include "core/log.h"
 #include "io/image_io.h"
 #include "mapping/octomap_io.h"
+#include "objects/object_segments.h"
 #include "perception/room_evidence.h"
 #include "perception/training_data.h"
 #include "perception/view_classifier.h"
@@ -54,6 +55,9 @@ struct SemanticStage::Impl {
   LabelLevel level;
   std::unique_ptr<ViewClassifier> classifier;
   std::unique_ptr<KnnClassifier> room_knn;
+  std::unique_ptr<KnnClassifier> segment_knn;  // Object segments by shape (absent: no segment term).
+  int num_segments = 0;
+  double seconds_segments = 0;
   VoxelCrfModel model;
   bool model_trained = false;
   VoxelCrfNodes nodes;
@@ -91,8 +95,17 @@ Result<std::unique_ptr<SemanticStage>> SemanticStage::Create(const VoxelMap& map
   Result<KnnClassifier> room = KnnClassifier::Load(models_dir + "/room_type_knn.bin");
   if (!room.ok()) return room.status();
   impl->room_knn = std::make_unique<KnnClassifier>(std::move(room).value());
-  const std::string model_path = models_dir + "/voxel_crf.txt";
   std::error_code ec;
+  if (const std::string segment_path = models_dir + "/object_segments.knn"; fs::exists(segment_path, ec)) {
+    Result<KnnClassifier> seg = KnnClassifier::Load(segment_path);
+    if (!seg.ok()) return seg.status();
+    if (seg->dims() != kNumSegmentFeatures || seg->num_classes() != impl->level.num_classes())
+      return Status::InvalidInput(FileError(segment_path, "not an object-segment model for the second-level classes", "re-run `semvox train`"));
+    impl->segment_knn = std::make_unique<KnnClassifier>(std::move(seg).value());
+  } else {
+    SEMVOX_WARN(segment_path << ": not found; the Voxel-CRF runs without the object-segment term (run `semvox train`)");
+  }
+  const std::string model_path = models_dir + "/voxel_crf.txt";
   if (fs::exists(model_path, ec)) {
     Result<VoxelCrfModel> m = VoxelCrfModel::Load(model_path);
     if (!m.ok()) return m.status();
@@ -244,9 +257,29 @@ Status SemanticStage::SolveWith(const VoxelCrfOptions& crf) {
 }
 
 void SemanticStage::FinishEvidence() {
-  if (!impl_->acc) return;
-  impl_->evidence = std::move(*impl_->acc).Finish();
-  impl_->acc.reset();
+  Impl& s = *impl_;
+  if (!s.acc) return;
+  s.evidence = std::move(*s.acc).Finish();
+  s.acc.reset();
+  if (!s.segment_knn) return;
+  // Object segments of the map, classified by shape: their probabilities on the segments' CRF nodes.
+  const auto t0 = Clock::now();
+  const SegmentationResult seg = SegmentObjects(s.map->grid, s.map->floor_z, s.map->ceiling_z, s.map->ceiling_found, SegmentOptions{});
+  const int K = s.level.num_classes();
+  s.evidence.segment.assign(s.nodes.size() * size_t(K), 0.f);
+  std::vector<std::vector<double>> p(seg.segments.size());
+  tbb::parallel_for(size_t(0), seg.segments.size(), [&](size_t i) {
+    p[i] = s.segment_knn->Probabilities({seg.segments[i].features.data(), seg.segments[i].features.size()});
+  });
+  for (size_t i = 0; i < seg.segments.size(); ++i)
+    for (uint32_t v : seg.segments[i].voxels) {
+      const int32_t node = s.nodes.node_of_voxel[v];
+      if (node < 0) continue;
+      for (int k = 0; k < K; ++k) s.evidence.segment[size_t(node) * K + size_t(k)] = float(p[i][size_t(k)]);
+    }
+  s.num_segments = int(seg.segments.size());
+  s.seconds_segments = Seconds(t0);
+  SEMVOX_INFO("object segments: " << s.num_segments << " classified by shape in " << s.seconds_segments << " s");
 }
 
 const VoxelCrfNodes& SemanticStage::nodes() const { return impl_->nodes; }
@@ -344,6 +377,7 @@ nlohmann::ordered_json SemanticStage::Summary() const {
                    {"phase_seconds", {{"build", it.seconds_build}, {"energy", it.seconds_energy}, {"alpha_expansion", it.seconds_expansion},
                                       {"max_flow", it.seconds_max_flow}, {"visibility", it.seconds_visibility}}}});
   j["iterations"] = its;
+  j["object_segments"] = s.segment_knn ? nlohmann::ordered_json(s.num_segments) : nlohmann::ordered_json("no model");
   j["occupied_voxels"] = s.semantic.occupied.size();
   j["completed_voxels"] = s.semantic.completed_count();
   nlohmann::ordered_json hist = nlohmann::ordered_json::object();
@@ -352,7 +386,8 @@ nlohmann::ordered_json SemanticStage::Summary() const {
   j["labels"] = hist;
   j["seconds"] = {{"depth_evidence", s.seconds_depth}, {"classify", s.seconds_classify}, {"crf", s.result.seconds},
                   {"crf_planes", s.result.seconds_planes}, {"crf_ray_starts", s.result.seconds_ray_starts},
-                  {"crf_confidence", s.result.seconds_confidence}, {"solve_total", s.seconds_solve}};
+                  {"crf_confidence", s.result.seconds_confidence}, {"object_segments", s.seconds_segments},
+                  {"solve_total", s.seconds_solve}};
   j["files"] = {"voxels.ply", "map.ot", "semantic_topview.png", "semantic_topview_labels.png"};
   return j;
 }

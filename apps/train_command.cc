@@ -22,6 +22,7 @@
 #include "core/file_util.h"
 #include "core/log.h"
 #include "objects/proposal_training.h"
+#include "objects/segment_training.h"
 #include "objects/support_training.h"
 #include "perception/crf_learning.h"
 #include "perception/room_evidence.h"
@@ -105,6 +106,8 @@ Status RunTrain(const TrainArgs& args) {
   const std::vector<LabelLevel> levels = {Nyu4Level(), SecondLevel()};
   ViewClassifierOptions options;
   TrainingViewsOptions views;
+  if (!ParseTrainingStyle(args.style, &views.style))
+    return Status::InvalidInput("--style = '" + args.style + "': expected randomised or flat");
   std::vector<TrainingSet> sets(levels.size());
   int train_views = 0;
   // Room-type evidence: descriptors from the ground-truth second-level classes of every training view.
@@ -151,7 +154,7 @@ Status RunTrain(const TrainArgs& args) {
       {"crf_scales", {{"colour_scale_lab", options.crf.colour_scale_lab}, {"distance_scale_m", options.crf.distance_scale_m}}},
       {"loopy", {{"max_iterations", options.loopy.max_iterations}, {"damping", options.loopy.damping}, {"tolerance", options.loopy.tolerance}}},
       {"min_label_purity", options.min_label_purity},
-      {"views", {{"width", views.width}, {"height", views.height}, {"horizontal_fov_deg", views.horizontal_fov_deg},
+      {"views", {{"style", TrainingStyleName(views.style)}, {"width", views.width}, {"height", views.height}, {"horizontal_fov_deg", views.horizontal_fov_deg},
                  {"eye_height_m", views.eye_height_m}, {"pitch_deg", views.pitch_deg}, {"yaws_per_room", views.yaws_per_room},
                  {"min_hit_fraction", views.min_hit_fraction}, {"min_mean_depth_m", views.min_mean_depth_m}}},
       {"max_rows", args.max_rows},
@@ -269,6 +272,36 @@ Status RunTrain(const TrainArgs& args) {
       return Status::Ok();
     }));
   }
+  // The same validation seeds in the other style (flat <-> randomised), union CRF, so that both are reported.
+  {
+    TrainingViewsOptions other = views;
+    other.style = views.style == TrainingStyle::kFlat ? TrainingStyle::kRandomised : TrainingStyle::kFlat;
+    std::vector<ConfusionMatrix> other_cms;
+    for (const LabelLevel& level : levels) other_cms.emplace_back(level.num_classes());
+    int other_views = 0;
+    for (uint64_t seed : val_seeds) {
+      SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, other, [&](const LabelledView& v) {
+        Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
+        if (!sp.ok()) return sp.status();
+        Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
+        if (!obs.ok()) return obs.status();
+        for (size_t l = 0; l < levels.size(); ++l) {
+          Result<ViewClassification> c = classifiers[l].Classify(*sp, *obs);
+          if (!c.ok()) return c.status();
+          other_cms[l].AddImages(levels[l].Map(*v.nyu40), PixelLabels(c->superpixels, c->union_labels));
+        }
+        ++other_views;
+        return Status::Ok();
+      }));
+    }
+    const std::string key = std::string("union_crf_val_") + TrainingStyleName(other.style);
+    for (size_t l = 0; l < levels.size(); ++l) {
+      report["levels"][levels[l].name][key] = Scores(other_cms[l], levels[l]);
+      report["levels"][levels[l].name][key]["views"] = other_views;
+      std::printf("%s, union CRF on the %s-style validation views (%d): global %.3f  average %.3f\n", levels[l].name.c_str(),
+                  TrainingStyleName(other.style), other_views, other_cms[l].GlobalAccuracy(), other_cms[l].AverageRecall());
+    }
+  }
   report["val_views"] = val_views;
   report["room_type"]["val_views"] = room_views;
   report["room_type"]["accuracy_per_view"] = room_views > 0 ? std::round(1e4 * room_correct / room_views) / 1e4 : 0.0;
@@ -310,6 +343,25 @@ Status RunTrain(const TrainArgs& args) {
     report["object_proposals"] = proposal_summary.ToJson();
     std::printf("object proposals: detection rate %.3f at 5 false positives per image (sampled), speed-up of features + SVM x%.2f\n",
                 proposal_summary.sampled.DetectionRateAt(5.0), proposal_summary.ToJson()["speedup_features_svm"].get<double>());
+  }
+  {  // Object segments classified by shape (the Voxel-CRF's segment term), on the same training seeds.
+    SegmentTrainingOptions so;
+    so.train_seeds = train_seeds;
+    so.train_seeds.insert(so.train_seeds.end(), crf_seeds.begin(), crf_seeds.end());
+    so.val_seeds = val_seeds;
+    so.scans = views;
+    so.scans.style = TrainingStyle::kRandomised;  // Segments always learn from randomised scans (cloud spacing, holes).
+    SegmentTrainingSummary summary;
+    Result<KnnClassifier> seg = TrainSegmentClassifier(so, &summary);
+    if (!seg.ok()) return seg.status();
+    SEMVOX_RETURN_IF_ERROR(seg->Save(args.outdir + "/object_segments.knn"));
+    nlohmann::json j;
+    j["train_segments"] = summary.train_segments;
+    j["val_segments"] = summary.val_segments;
+    j["val_segment_accuracy"] = std::round(1e4 * summary.val_segment_accuracy) / 1e4;
+    j["val_voxels"] = Scores(summary.val_voxels, levels[1]);
+    report["object_segments"] = j;
+    std::printf("%s", summary.ToText(levels[1]).c_str());
   }
   SEMVOX_INFO("train: " << std::round(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count())
                          << " s; models and train_report.json in " << args.outdir);

@@ -1,7 +1,8 @@
 // `semvox train --voxel-crf`: learns the Voxel-CRF's weights by structural SVM (Kim et al. 2013, Sec. 5.2)
 // and its layout prior on generated apartments, and writes OUTDIR/voxel_crf.txt and voxel_crf_report.json.
 //
-// Each training apartment goes through the same stages as `semvox run` (scan artefacts, voxelisation,
+// Each training apartment goes through the same stages as `semvox run` (randomised scan as for the per-view
+// classifiers (perception/training_data.h, MakeTrainingScan), voxelisation,
 // rendered views with depth evidence, classification views with the shipped per-view classifier), so the
 // weights are learned on the evidence the pipeline really produces. The ground truth of every CRF node is
 // the NYU40 label of the clean mesh's surface in the voxel (second-level class), or empty.
@@ -49,10 +50,13 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
     Result<Apartment> apt = GenerateApartment(ao);
     if (!apt.ok()) return apt.status();
     Item& it = items.emplace_back();
-    ScanArtefactOptions so;
-    so.seed = seed;
-    it.scene.format = "generated";
-    it.scene.mesh = ApplyScanArtefacts(*apt, so);
+    // Scanned as the per-view classifiers were trained (randomised: palettes, textures, lighting, simulated
+    // fused clouds of random spacing), so the weights see the evidence a real scan produces.
+    TrainingViewsOptions style;
+    style.style = TrainingStyle::kRandomised;
+    Result<Scene> scan = MakeTrainingScan(*apt, seed, style);
+    if (!scan.ok()) return scan.status();
+    it.scene = std::move(scan).value();
     Result<VoxelMap> map = Voxelize(it.scene, config.voxelize);
     if (!map.ok()) return map.status();
     it.map = std::move(map).value();

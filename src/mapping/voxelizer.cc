@@ -336,6 +336,8 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, co
     SEMVOX_INFO(scene.source_path << ": no ceiling found; using the top of the scan, z = " << map.ceiling_z);
   map.seconds_floor = Seconds(t0);
 
+  if (!options.free_space) return map;  // Surfaces, floor and ceiling only.
+
   // 3. Scan positions: a grid at scanner height, clear of surfaces, above a floor, enclosed by surfaces.
   t0 = Clock::now();
   double z = map.floor_z + options.scan_height_m;

@@ -34,6 +34,7 @@ struct VoxelizeOptions {
   double min_floor_to_ceiling_m = 1.8; // A ceiling candidate must be at least this far above the floor.
   size_t max_voxels = 400'000'000;     // Refuse grids with more voxels than this (memory guard).
   int cloud_normal_neighbors = 12;     // k for PCA normals of clouds without normals.
+  bool free_space = true;              // false: surfaces, floor and ceiling only (no scan positions, no free voxels).
 
   bool Check(std::string* error) const;
 };

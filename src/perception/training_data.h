@@ -16,6 +16,7 @@
 
 #include "core/image.h"
 #include "core/status.h"
+#include "perception/view_augmentation.h"
 #include "render/view_renderer.h"
 
 namespace semvox {
@@ -35,7 +36,16 @@ LabelLevel Nyu4Level();
 // labelled id (22 classes).
 LabelLevel SecondLevel();
 
+// How training apartments look. kFlat: the generator's own flat per-object colours on the scanned mesh,
+// views from each room's middle (the style every model was trained on before randomisation). kRandomised:
+// domain randomisation (view_augmentation.h) on a mesh or a simulated fused cloud with random point
+// spacing, holes and missing ceiling, seen from jittered positions, heights, headings and pitches.
+enum class TrainingStyle { kFlat, kRandomised };
+const char* TrainingStyleName(TrainingStyle style);
+bool ParseTrainingStyle(const std::string& name, TrainingStyle* style);
+
 struct TrainingViewsOptions {
+  TrainingStyle style = TrainingStyle::kFlat;
   int width = 320;                  // Pixels. >= 16.
   int height = 240;                 // Pixels. >= 16.
   double horizontal_fov_deg = 60;   // About a Kinect's, as in NYUv2. (0, 180).
@@ -44,6 +54,14 @@ struct TrainingViewsOptions {
   int yaws_per_room = 4;            // Evenly spaced headings from the room's middle. >= 1.
   double min_hit_fraction = 0.5;    // Views seeing less surface than this are skipped. [0, 1].
   double min_mean_depth_m = 0.8;    // Views with a nearer mean depth (inside furniture) are skipped. >= 0.
+  // kRandomised only:
+  double cloud_probability = 0.5;        // An apartment is delivered as a simulated fused cloud. [0, 1].
+  double min_point_spacing_m = 0.015;    // Fusion grid of the cloud drawn in [min, max], metres. > 0.
+  double max_point_spacing_m = 0.06;
+  double position_jitter = 0.35;         // Eye moved from the room's middle by up to this share of the half-extents. [0, 1).
+  double eye_height_jitter_m = 0.25;     // Eye height drawn in eye_height_m +- this, metres. >= 0.
+  double pitch_jitter_deg = 10;          // Pitch drawn in pitch_deg +- this, degrees. >= 0.
+  ViewAugmentationOptions augmentation;
 
   bool Check(std::string* error) const;
 };
@@ -56,6 +74,14 @@ struct LabelledView {
   const RenderedView* view = nullptr;
   const Image<int32_t>* nyu40 = nullptr;  // Per pixel, 0 where nothing is hit.
 };
+
+struct Apartment;  // scenegen/apartment.h
+
+// The scan of a generated apartment as the training views see it: kFlat, the mesh with the default scan
+// artefacts; kRandomised, with `cloud_probability` a simulated fused cloud (random point spacing, no
+// normals, holes, the ceiling missing in patches or wholly), else the mesh with random artefacts. Faces or
+// points keep their `label`, `instance` and `room` attributes. Deterministic in `seed`.
+Result<Scene> MakeTrainingScan(const Apartment& apartment, uint64_t seed, const TrainingViewsOptions& options);
 
 // Calls `sink` for every kept view of apartment `seed`, in room then heading order. Stops at the first
 // error `sink` returns.

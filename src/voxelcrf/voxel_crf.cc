@@ -82,6 +82,7 @@ VoxelCrfModel VoxelCrfModel::Default(std::vector<int> nyu40_of_class, std::vecto
   m.w[kWPairwise2d] = 0.2;
   m.w[kWPlane] = 2.0;
   m.w[kWObject] = 0.5;
+  m.w[kWSegment] = 1.0;
   return m;
 }
 
@@ -111,10 +112,11 @@ Result<VoxelCrfModel> VoxelCrfModel::Load(const std::string& path) {
   }
   std::istringstream ws(line);
   int n = 0;
-  if (!(ws >> word >> n) || word != "weights" || n != kNumVoxelCrfWeights)
+  // Models written before the object-segment term have one weight fewer; it is 0 for them.
+  if (!(ws >> word >> n) || word != "weights" || (n != kNumVoxelCrfWeights && n != kWSegment))
     return bad("expected 'weights " + std::to_string(kNumVoxelCrfWeights) + " ...' first");
-  for (double& v : m.w)
-    if (!(ws >> v) || !std::isfinite(v)) return bad("a weight is missing or not a number");
+  for (int i = 0; i < n; ++i)
+    if (!(ws >> m.w[size_t(i)]) || !std::isfinite(m.w[size_t(i)])) return bad("a weight is missing or not a number");
   int k = 0;
   if (!(is >> word >> k) || word != "classes" || k < 1 || k > 1000) return bad("expected 'classes K'");
   for (int c = 0; c < k; ++c) {
@@ -250,6 +252,14 @@ VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes&
   }
   p.f_appearance.assign(size_t(n) * K, 0.f);
   p.f_layout.assign(size_t(n) * K, 0.f);
+  if (ev.segment.size() == size_t(n) * K) {
+    p.f_segment.assign(size_t(n) * K, 0.f);
+    for (size_t s = 0; s < size_t(n); ++s) {
+      const float* q = &ev.segment[s * K];
+      if (std::all_of(q, q + K, [](float v) { return v == 0.f; })) continue;
+      for (int k = 0; k < K; ++k) p.f_segment[s * K + k] = NegLog(q[k]);
+    }
+  }
   p.f_depth_empty.assign(size_t(n), 0.f);
   p.f_density_empty.assign(size_t(n), 0.f);
   p.f_depth_occ.assign(size_t(n), 0.f);
@@ -405,8 +415,10 @@ CrfEnergy VoxelCrfProblem::Energy(const std::array<double, kNumVoxelCrfWeights>&
       const double occ = w[kWDepthOccupied] * f_depth_occ[i] + w[kWDensityOccupied] * f_density_occ[i] +
                          w[kWUnseenOccupied] * (st == uint8_t(VoxelState::kUnknown)) +
                          w[kWMapFreeOccupied] * (st == uint8_t(VoxelState::kFree)) + w[kWOccupiedBias];
+      const bool segment = !f_segment.empty();
       for (int k = 0; k < K; ++k)
-        u[size_t(k + 1) * N + i] = float(occ + w[kWAppearance] * f_appearance[i * K + k] + w[kWLayout] * f_layout[i * K + k]);
+        u[size_t(k + 1) * N + i] = float(occ + w[kWAppearance] * f_appearance[i * K + k] + w[kWLayout] * f_layout[i * K + k] +
+                                         (segment ? w[kWSegment] * f_segment[i * K + k] : 0.0));
       if (loss_gt)
         for (int l = 0; l < num_labels; ++l)
           if (l != (*loss_gt)[i]) u[size_t(l) * N + i] -= 1.0f;
@@ -446,6 +458,7 @@ std::array<double, kNumVoxelCrfWeights> VoxelCrfProblem::Features(const std::vec
       f[kWUnseenOccupied] += st == uint8_t(VoxelState::kUnknown);
       f[kWOccupiedBias] += 1.0;
       f[kWLayout] += f_layout[i * K + size_t(l - 1)];
+      if (!f_segment.empty()) f[kWSegment] += f_segment[i * K + size_t(l - 1)];
     }
   }
   for (const Edge& e : edges) f[size_t(e.type)] += labels[size_t(e.i)] != labels[size_t(e.j)];

@@ -67,6 +67,7 @@ enum VoxelCrfWeight : int {
   kWPairwise2d = kWPairwise3d + 10,
   kWPlane,
   kWObject,
+  kWSegment,          // -log P(class | shape) of the object segment holding the voxel (objects/object_segments.h)
   kNumVoxelCrfWeights
 };
 
@@ -128,6 +129,7 @@ struct VoxelCrfProblem {
   std::vector<uint8_t> state;       // Per node: the map's VoxelState.
   std::vector<float> f_appearance;  // N x K, 0 where not visible.
   std::vector<float> f_layout;      // N x K.
+  std::vector<float> f_segment;     // N x K, -log P(class | segment shape); 0 outside segments; empty: none.
   struct Edge {
     int i, j;
     int16_t type;  // Weight index (kWPairwise3d + t or kWPairwise2d).

@@ -88,6 +88,9 @@ struct VoxelEvidence {
   std::vector<Eigen::Vector3f> origins;
   std::vector<EvidenceRay> rays;
   std::vector<float> observations;       // rows x K.
+  // Per node x K: class probabilities of the object segment holding the node (objects/object_segments.h),
+  // all zero for nodes outside segments; empty when no segment classifier ran.
+  std::vector<float> segment;
   int num_classified_views = 0;
   int num_depth_views = 0;
   bool observed(size_t node) const { return observing_views[node] > 0; }

@@ -36,7 +36,7 @@ VoxelCrfProblem RandomProblem(int n, int K, std::mt19937_64* rng) {
     p.f_depth_occ.push_back(u(*rng));
     p.f_density_occ.push_back(u(*rng));
     p.state.push_back(uint8_t((*rng)() % 3));
-    for (int k = 0; k < K; ++k) p.f_appearance.push_back(u(*rng)), p.f_layout.push_back(u(*rng));
+    for (int k = 0; k < K; ++k) p.f_appearance.push_back(u(*rng)), p.f_layout.push_back(u(*rng)), p.f_segment.push_back(i % 3 ? u(*rng) : 0.f);
   }
   for (int i = 0; i + 1 < n; ++i) p.edges.push_back({i, i + 1, int16_t(kWPairwise3d + int((*rng)() % 10))});
   for (int i = 0; i + 3 < n; i += 2) p.edges.push_back({i, i + 3, int16_t(kWPairwise2d)});

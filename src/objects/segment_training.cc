@@ -1,0 +1,98 @@
+#include "objects/segment_training.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+
+#include "eval/evaluate.h"
+#include "mapping/voxelizer.h"
+#include "scenegen/apartment.h"
+
+namespace semvox {
+
+std::string SegmentTrainingSummary::ToText(const LabelLevel& level) const {
+  std::string s;
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), "object segments: %d training, %d validation; validation segment accuracy %.3f, voxel-weighted global %.3f average %.3f\n",
+                train_segments, val_segments, val_segment_accuracy, val_voxels.GlobalAccuracy(), val_voxels.AverageRecall());
+  s += buf;
+  for (int c = 0; c < level.num_classes(); ++c) {
+    const double r = val_voxels.Recall(c);
+    if (std::isnan(r)) continue;
+    std::snprintf(buf, sizeof(buf), "  %-16s recall %.3f\n", level.class_names[size_t(c)].c_str(), r);
+    s += buf;
+  }
+  return s;
+}
+
+Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, std::vector<float>* features,
+                        std::vector<int>* classes, std::vector<int>* voxels) {
+  ApartmentOptions ao;
+  ao.seed = seed;
+  Result<Apartment> apartment = GenerateApartment(ao);
+  if (!apartment.ok()) return apartment.status();
+  Result<Scene> scene = MakeTrainingScan(*apartment, seed, options.scans);
+  if (!scene.ok()) return scene.status();
+  VoxelizeOptions vo;
+  vo.voxel_size_m = options.voxel_size_m;
+  vo.free_space = false;  // Segments read only the occupied voxels and the floor / ceiling heights.
+  Result<VoxelMap> map = Voxelize(*scene, vo);
+  if (!map.ok()) return map.status();
+  const SegmentationResult seg = SegmentObjects(map->grid, map->floor_z, map->ceiling_z, map->ceiling_found, options.segments);
+  const VoxelLabels truth = VoxelizeLabeledMesh(apartment->mesh, options.voxel_size_m);
+  const LabelLevel level = SecondLevel();
+  for (const ObjectSegment& s : seg.segments) {
+    std::map<int, int> votes;
+    int labelled = 0;
+    for (uint32_t v : s.voxels) {
+      const auto c = map->grid.Cell(v);
+      const auto it = truth.find(map->grid.KeyOf(c[0], c[1], c[2]).Pack());
+      if (it == truth.end() || it->second <= 0 || it->second >= int(level.class_of_nyu40.size())) continue;
+      const int cls = level.class_of_nyu40[size_t(it->second)];
+      if (cls < 0) continue;
+      ++votes[cls];
+      ++labelled;
+    }
+    if (labelled == 0 || labelled * 4 < int(s.voxels.size())) continue;
+    const auto best = std::max_element(votes.begin(), votes.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    if (best->second < options.min_purity * labelled) continue;
+    features->insert(features->end(), s.features.begin(), s.features.end());
+    classes->push_back(best->first);
+    voxels->push_back(int(s.voxels.size()));
+  }
+  return Status::Ok();
+}
+
+Result<KnnClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const LabelLevel level = SecondLevel();
+  std::vector<float> features;
+  std::vector<int> classes, voxels;
+  for (uint64_t seed : options.train_seeds) SEMVOX_RETURN_IF_ERROR(LabelledSegments(seed, options, &features, &classes, &voxels));
+  if (classes.empty()) return Status::InvalidInput("object segments: no labelled training segment");
+  Result<KnnClassifier> clf = KnnClassifier::Train(features, kNumSegmentFeatures, classes, level.num_classes(), options.knn);
+  if (!clf.ok()) return clf.status();
+  SegmentTrainingSummary s;
+  s.train_segments = int(classes.size());
+  s.val_voxels = ConfusionMatrix(level.num_classes());
+  int correct = 0;
+  for (uint64_t seed : options.val_seeds) {
+    std::vector<float> vf;
+    std::vector<int> vc, vv;
+    SEMVOX_RETURN_IF_ERROR(LabelledSegments(seed, options, &vf, &vc, &vv));
+    for (size_t i = 0; i < vc.size(); ++i) {
+      const std::vector<double> p = clf->Probabilities({vf.data() + i * kNumSegmentFeatures, size_t(kNumSegmentFeatures)});
+      const int best = int(std::max_element(p.begin(), p.end()) - p.begin());
+      correct += best == vc[i];
+      for (int k = 0; k < vv[i]; ++k) s.val_voxels.Add(vc[i], best);
+      ++s.val_segments;
+    }
+  }
+  s.val_segment_accuracy = s.val_segments > 0 ? double(correct) / s.val_segments : 0.0;
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (summary) *summary = s;
+  return clf;
+}
+
+}  // namespace semvox

@@ -1,0 +1,57 @@
+// Training and scoring the object-segment classifier (object_segments.h) on generated apartments
+// (library semvox_objects_train).
+//
+//   SegmentTrainingOptions o;  o.train_seeds = {0, ..., 39};  o.val_seeds = {100, ..., 109};
+//   SegmentTrainingSummary s;
+//   Result<KnnClassifier> clf = TrainSegmentClassifier(o, &s);   // second-level classes (training_data.h)
+//
+// Each apartment is scanned as the randomised training views see it (MakeTrainingScan: a simulated fused
+// cloud of random spacing or a mesh with random artefacts), voxelised as `semvox run` does, and segmented;
+// a segment's class is the majority second-level class of its voxels in the clean mesh's voxelisation
+// (when it covers at least `min_purity` of its labelled voxels and at least a quarter of its voxels have a
+// label). The k-NN (k = 10, Eq. 4 of the MST-CRF paper, standardised features) learns from the training
+// segments; the summary scores it on the validation segments, voxel-weighted.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "objects/object_segments.h"
+#include "perception/knn_unary.h"
+#include "perception/training_data.h"
+#include "perception/view_classifier.h"
+
+namespace semvox {
+
+struct SegmentTrainingOptions {
+  std::vector<uint64_t> train_seeds;
+  std::vector<uint64_t> val_seeds;
+  TrainingViewsOptions scans = [] {  // Style and scan randomisation of the apartments.
+    TrainingViewsOptions o;
+    o.style = TrainingStyle::kRandomised;
+    return o;
+  }();
+  SegmentOptions segments;
+  double voxel_size_m = 0.05;       // As `semvox run`'s default. > 0.
+  double min_purity = 0.5;          // (0, 1].
+  KnnOptions knn;
+};
+
+struct SegmentTrainingSummary {
+  int train_segments = 0, val_segments = 0;
+  ConfusionMatrix val_voxels;       // Second-level classes, each segment's voxels counted with its predicted class.
+  double val_segment_accuracy = 0;  // Share of validation segments whose argmax is their class.
+  double seconds = 0;
+  std::string ToText(const LabelLevel& level) const;
+};
+
+// The labelled segments of one apartment: features (kNumSegmentFeatures per row), second-level classes
+// and voxel counts per row.
+Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, std::vector<float>* features,
+                        std::vector<int>* classes, std::vector<int>* voxels);
+
+Result<KnnClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary);
+
+}  // namespace semvox

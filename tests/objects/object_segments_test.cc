@@ -1,0 +1,93 @@
+// Object segments by shape (objects/object_segments.h) on a hand-built voxel room.
+#include "objects/object_segments.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+namespace semvox {
+namespace {
+
+// A 6 x 5 m room at 5 cm (floor at z = 0, walls 2.5 m high, one cell thick), with a bed (2.0 x 1.5 m,
+// 0.5 m high, a solid box), a table (1.2 x 0.8 m top at 0.75 m on four legs) and a fridge (0.7 x 0.7 m,
+// 1.8 m high) against the north wall.
+struct Room {
+  static constexpr double kRes = 0.05;
+  VoxelGrid grid{kRes, {32768 - 10, 32768 - 10, 32768}, {140, 120, 56}};
+  // Cell of a metric position (x, y from the room's corner at cell 10, z from the floor cell 0).
+  int C(double m) const { return int(std::floor(m / kRes + 1e-9)); }
+  void Fill(double x0, double y0, double z0, double x1, double y1, double z1) {
+    for (int z = C(z0); z < C(z1); ++z)
+      for (int y = 10 + C(y0); y < 10 + C(y1); ++y)
+        for (int x = 10 + C(x0); x < 10 + C(x1); ++x) grid.set_state(grid.Index(x, y, z), VoxelState::kOccupied);
+  }
+  Room() {
+    Fill(0, 0, 0, 6, 5, 0.05);            // floor layer
+    Fill(-0.05, -0.05, 0, 0, 5.05, 2.5);  // west wall
+    Fill(6, -0.05, 0, 6.05, 5.05, 2.5);   // east wall
+    Fill(0, -0.05, 0, 6, 0, 2.5);         // south wall
+    Fill(0, 5, 0, 6, 5.05, 2.5);          // north wall
+    Fill(1.0, 1.0, 0.05, 3.0, 2.5, 0.5);  // bed
+    Fill(4.0, 1.0, 0.70, 5.2, 1.8, 0.75); // table top
+    for (double lx : {4.0, 5.15})
+      for (double ly : {1.0, 1.75}) Fill(lx, ly, 0.05, lx + 0.05, ly + 0.05, 0.70);
+    Fill(4.5, 4.3, 0.05, 5.2, 5.0, 1.8);  // fridge
+  }
+  // The floor surface inside the floor layer (cell 0): its centre.
+  double FloorZ() const { return grid.CellCenter(0, 0, 0).z(); }
+};
+
+const ObjectSegment* SegmentAt(const SegmentationResult& r, const VoxelGrid& g, int x, int y, int z) {
+  const uint32_t v = uint32_t(g.Index(x, y, z));
+  for (const ObjectSegment& s : r.segments)
+    if (std::binary_search(s.voxels.begin(), s.voxels.end(), v)) return &s;
+  return nullptr;
+}
+
+TEST(ObjectSegments, WallsAndFloorAreStructureAndFurnitureSegmentsHaveTheirShape) {
+  Room room;
+  const double floor_z = room.FloorZ();
+  const SegmentationResult r = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, SegmentOptions{});
+  // Walls and the floor layer are structure, none of the furniture is.
+  EXPECT_EQ(r.structure[room.grid.Index(9, 50, 30)], 3);    // west wall
+  EXPECT_EQ(r.structure[room.grid.Index(50, 110, 30)], 3);  // north wall
+  EXPECT_EQ(r.structure[room.grid.Index(50, 50, 0)], 1);    // floor
+  ASSERT_EQ(r.segments.size(), 3u);
+  const ObjectSegment* bed = SegmentAt(r, room.grid, 40, 40, 5);
+  const ObjectSegment* table = SegmentAt(r, room.grid, 100, 40, 14);
+  const ObjectSegment* fridge = SegmentAt(r, room.grid, 105, 100, 20);
+  ASSERT_TRUE(bed && table && fridge);
+  EXPECT_NE(bed, table);
+  EXPECT_NE(table, fridge);
+  // Shape features within a voxel (5 cm) of the built sizes.
+  const double tol = 0.051;
+  EXPECT_NEAR(bed->features[kSegLength], 2.0, tol);
+  EXPECT_NEAR(bed->features[kSegWidth], 1.5, tol);
+  // Heights above the floor (0.025 m): the bed's highest voxel centre is at 0.475 m, the table top's at
+  // 0.725 m, the fridge's at 1.775 m; the floor band (0.08 m) takes the furniture's lowest layer.
+  EXPECT_NEAR(bed->features[kSegTop], 0.45, tol);
+  EXPECT_NEAR(bed->features[kSegBottom], 0.10, tol);
+  EXPECT_NEAR(bed->features[kSegFill], 1.0, 0.05);
+  EXPECT_NEAR(table->features[kSegTopSurface], 0.70, tol);
+  EXPECT_NEAR(table->features[kSegLength], 1.2, tol);
+  EXPECT_LT(table->features[kSegFill], 0.3);           // a top on legs
+  EXPECT_GT(table->features[kSegUnderShare], 0.8);     // most of its footprint is above 0.15 m
+  EXPECT_NEAR(fridge->features[kSegTop], 1.75, tol);
+  EXPECT_LT(fridge->features[kSegWallDistance], 0.5);  // against the north wall
+  EXPECT_GT(bed->features[kSegWallDistance], 0.9);
+  // Deterministic.
+  const SegmentationResult again = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, SegmentOptions{});
+  ASSERT_EQ(again.segments.size(), r.segments.size());
+  for (size_t i = 0; i < r.segments.size(); ++i) EXPECT_EQ(again.segments[i].voxels, r.segments[i].voxels);
+}
+
+TEST(ObjectSegments, RejectsBadOptions) {
+  SegmentOptions o;
+  o.wall_min_run_m = 0;
+  std::string error;
+  EXPECT_FALSE(o.Check(&error));
+  EXPECT_NE(error.find("wall_min_run_m"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace semvox
