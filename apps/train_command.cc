@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 
 #include "apps/commands.h"
 #include "core/file_util.h"
@@ -90,6 +91,19 @@ nlohmann::json Scores(const ConfusionMatrix& cm, const LabelLevel& level) {
   return j;
 }
 
+// Every kept view of apartment `seed`, cut into superpixels with their observations once (both label levels
+// and the room-type evidence share the segmentation).
+Status ForEachSegmentedView(uint64_t seed, const TrainingViewsOptions& views, const ViewClassifierOptions& options,
+                            const std::function<Status(const LabelledView&, const Superpixels&, const ViewObservations&)>& fn) {
+  return ForEachApartmentView(seed, views, [&](const LabelledView& v) {
+    Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
+    if (!sp.ok()) return sp.status();
+    Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
+    if (!obs.ok()) return obs.status();
+    return fn(v, *sp, *obs);
+  });
+}
+
 }  // namespace
 
 Status RunTrain(const TrainArgs& args) {
@@ -127,13 +141,9 @@ Status RunTrain(const TrainArgs& args) {
   const std::vector<uint64_t> crf_seeds(train_seeds.end() - args.crf_holdout, train_seeds.end());
   train_seeds.resize(train_seeds.size() - size_t(args.crf_holdout));
   for (uint64_t seed : train_seeds) {
-    SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, views, [&](const LabelledView& v) {
-      Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
-      if (!sp.ok()) return sp.status();
-      Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
-      if (!obs.ok()) return obs.status();
+    SEMVOX_RETURN_IF_ERROR(ForEachSegmentedView(seed, views, options, [&](const LabelledView& v, const Superpixels& sp, const ViewObservations& obs) {
       for (size_t l = 0; l < levels.size(); ++l)
-        AddTrainingSuperpixels(*sp, *obs, levels[l].Map(*v.nyu40), options.min_label_purity, &sets[l]);
+        AddTrainingSuperpixels(sp, obs, levels[l].Map(*v.nyu40), options.min_label_purity, &sets[l]);
       add_room_row(v);
       ++train_views;
       return Status::Ok();
@@ -175,19 +185,15 @@ Status RunTrain(const TrainArgs& args) {
   // CRF weights on the held-out seeds.
   std::vector<std::vector<CrfTrainingGraph>> tree_graphs(levels.size()), union_graphs(levels.size());
   for (uint64_t seed : crf_seeds) {
-    SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, views, [&](const LabelledView& v) {
-      Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
-      if (!sp.ok()) return sp.status();
-      Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
-      if (!obs.ok()) return obs.status();
+    SEMVOX_RETURN_IF_ERROR(ForEachSegmentedView(seed, views, options, [&](const LabelledView& v, const Superpixels& sp, const ViewObservations& obs) {
       for (size_t l = 0; l < levels.size(); ++l) {
         tree_graphs[l].emplace_back();
         union_graphs[l].emplace_back();
-        SEMVOX_RETURN_IF_ERROR(classifiers[l].CrfTrainingGraphs(*sp, *obs, levels[l].Map(*v.nyu40), &tree_graphs[l].back(),
+        SEMVOX_RETURN_IF_ERROR(classifiers[l].CrfTrainingGraphs(sp, obs, levels[l].Map(*v.nyu40), &tree_graphs[l].back(),
                                                                 &union_graphs[l].back()));
       }
       // Room-type CRF: this view's descriptor from its predicted second-level classes (tree CRF).
-      Result<ViewClassification> room_c = classifiers[1].Classify(*sp, *obs);
+      Result<ViewClassification> room_c = classifiers[1].Classify(sp, obs);
       if (!room_c.ok()) return room_c.status();
       room_records.push_back(MakeRoomViewRecord(v, PixelLabels(room_c->superpixels, room_c->tree_labels),
                                                 room_level.num_classes(), RoomObjectClasses(room_level.class_names), kRoomViewRangeM));
@@ -243,13 +249,9 @@ Status RunTrain(const TrainArgs& args) {
   int val_views = 0;
   std::vector<int> union_converged(levels.size(), 0);  // Views whose loopy BP met its tolerance.
   for (uint64_t seed : val_seeds) {
-    SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, views, [&](const LabelledView& v) {
-      Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
-      if (!sp.ok()) return sp.status();
-      Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
-      if (!obs.ok()) return obs.status();
+    SEMVOX_RETURN_IF_ERROR(ForEachSegmentedView(seed, views, options, [&](const LabelledView& v, const Superpixels& sp, const ViewObservations& obs) {
       for (size_t l = 0; l < levels.size(); ++l) {
-        Result<ViewClassification> c = classifiers[l].Classify(*sp, *obs);
+        Result<ViewClassification> c = classifiers[l].Classify(sp, obs);
         if (!c.ok()) return c.status();
         const Image<int32_t> truth = levels[l].Map(*v.nyu40);
         cms[l][0].AddImages(truth, PixelLabels(c->superpixels, c->knn_labels));
@@ -280,13 +282,9 @@ Status RunTrain(const TrainArgs& args) {
     for (const LabelLevel& level : levels) other_cms.emplace_back(level.num_classes());
     int other_views = 0;
     for (uint64_t seed : val_seeds) {
-      SEMVOX_RETURN_IF_ERROR(ForEachApartmentView(seed, other, [&](const LabelledView& v) {
-        Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
-        if (!sp.ok()) return sp.status();
-        Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
-        if (!obs.ok()) return obs.status();
+      SEMVOX_RETURN_IF_ERROR(ForEachSegmentedView(seed, other, options, [&](const LabelledView& v, const Superpixels& sp, const ViewObservations& obs) {
         for (size_t l = 0; l < levels.size(); ++l) {
-          Result<ViewClassification> c = classifiers[l].Classify(*sp, *obs);
+          Result<ViewClassification> c = classifiers[l].Classify(sp, obs);
           if (!c.ok()) return c.status();
           other_cms[l].AddImages(levels[l].Map(*v.nyu40), PixelLabels(c->superpixels, c->union_labels));
         }

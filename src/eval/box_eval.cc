@@ -11,6 +11,7 @@
 #include "core/file_util.h"
 #include "core/labels.h"
 #include "core/ply.h"
+#include "eval/score_json.h"
 
 namespace semvox {
 namespace fs = std::filesystem;
@@ -40,8 +41,6 @@ bool Matches(int predicted, int box_label) {
   const auto table_like = [](int l) { return l == kTable || l == kDesk; };
   return table_like(predicted) && table_like(box_label);
 }
-
-double Round6(double v) { return std::round(v * 1e6) / 1e6; }
 
 }  // namespace
 
@@ -273,16 +272,6 @@ Result<BoxEvalReport> EvaluateRunAgainstBoxes(const std::string& pred_dir, const
   }
   return rep;
 }
-
-namespace {
-nlohmann::ordered_json ScoreJson(const Score& s) {
-  nlohmann::ordered_json j;
-  j["present"] = s.present;
-  if (s.present) j["value"] = Round6(s.value);
-  if (!s.note.empty()) j["note"] = s.note;
-  return j;
-}
-}  // namespace
 
 std::string BoxEvalReport::ToJson() const {
   nlohmann::ordered_json j;

@@ -14,6 +14,7 @@
 #include "core/file_util.h"
 #include "core/labels.h"
 #include "core/ply.h"
+#include "eval/score_json.h"
 #include "core/voxel_key.h"
 #include "io/image_io.h"
 
@@ -472,16 +473,6 @@ Result<EvalReport> Evaluate(const std::string& pred_dir, const std::string& gt_d
   return rep;
 }
 
-namespace {
-nlohmann::ordered_json ScoreJson(const Score& s) {
-  nlohmann::ordered_json j;
-  j["present"] = s.present;
-  if (s.present) j["value"] = std::round(s.value * 1e6) / 1e6;
-  if (!s.note.empty()) j["note"] = s.note;
-  return j;
-}
-}  // namespace
-
 std::string EvalReport::ToJson() const {
   nlohmann::ordered_json j;
   j["pred"] = pred_dir;
@@ -491,9 +482,9 @@ std::string EvalReport::ToJson() const {
                      {"semantic_accuracy", ScoreJson(top_view.semantic_accuracy)},
                      {"semantic_global", ScoreJson(top_view.semantic_global)},
                      {"pixels", top_view.pixels},
-                     {"predicted_unknown_fraction", std::round(top_view.predicted_unknown * 1e6) / 1e6}};
+                     {"predicted_unknown_fraction", Round6(top_view.predicted_unknown)}};
   nlohmann::ordered_json iou = nlohmann::ordered_json::object();
-  for (const auto& [c, v] : voxels.iou_per_class) iou[Nyu40Labels()[size_t(std::clamp(c, 0, kNumNyu40 - 1))].name] = std::round(v * 1e6) / 1e6;
+  for (const auto& [c, v] : voxels.iou_per_class) iou[Nyu40Labels()[size_t(std::clamp(c, 0, kNumNyu40 - 1))].name] = Round6(v);
   j["b_visible_voxels"] = {{"accuracy", ScoreJson(voxels.accuracy)}, {"mean_recall", ScoreJson(voxels.mean_recall)},
                            {"mean_iou", ScoreJson(voxels.mean_iou)}, {"visible", voxels.visible},
                            {"gt_voxels", voxels.gt_voxels}, {"iou_per_class", iou}};
@@ -505,7 +496,7 @@ std::string EvalReport::ToJson() const {
   j["d_room_segmentation_typed_areas"] = {{"recall", ScoreJson(rooms_typed.recall)}, {"precision", ScoreJson(rooms_typed.precision)},
                                           {"gt_rooms", rooms_typed.gt_rooms}, {"predicted_rooms", rooms_typed.predicted_rooms}};
   nlohmann::ordered_json per_type = nlohmann::ordered_json::object();
-  for (const auto& [t, v] : room_types.recall_per_type) per_type[RoomTypes()[size_t(std::clamp(t, 0, kNumRoomTypes - 1))].name] = std::round(v * 1e6) / 1e6;
+  for (const auto& [t, v] : room_types.recall_per_type) per_type[RoomTypes()[size_t(std::clamp(t, 0, kNumRoomTypes - 1))].name] = Round6(v);
   j["e_room_types"] = {{"global", ScoreJson(room_types.global)}, {"average", ScoreJson(room_types.average)}, {"recall_per_type", per_type}};
   return j.dump(2) + "\n";
 }

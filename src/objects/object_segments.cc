@@ -32,8 +32,7 @@ namespace {
 
 // Features of one component (voxels: grid indices).
 std::array<float, kNumSegmentFeatures> Describe(const VoxelGrid& grid, const std::vector<uint32_t>& voxels, double floor_z,
-                                                double top_z, const std::vector<uint8_t>& wall_column,
-                                                const std::vector<float>& wall_distance) {
+                                                double top_z, const std::vector<float>& wall_distance) {
   const auto& d = grid.dims();
   const double res = grid.resolution();
   std::array<float, kNumSegmentFeatures> f{};
@@ -105,7 +104,6 @@ std::array<float, kNumSegmentFeatures> Describe(const VoxelGrid& grid, const std
     contact += wall_distance[size_t(xy.second) * d[0] + xy.first] <= float(2.5 * res);
     under += grid.CellCenter(0, 0, zz.first).z() - floor_z > 0.15;
   }
-  (void)wall_column;
   f[kSegWallContact] = float(contact / footprint_cells);
   f[kSegLayers] = float(layers);
   f[kSegUnderShare] = float(under / footprint_cells);
@@ -147,8 +145,6 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
   const double res = grid.resolution();
   out.structure.assign(grid.size(), 0);
   if (grid.size() == 0) return out;
-  const double z0 = grid.CellCenter(0, 0, 0).z();
-  auto cell_z = [&](double z) { return int(std::floor((z - z0) / res + 0.5)); };
   // Top of the scan: highest occupied layer.
   int top_cell = -1;
   for (size_t i = 0; i < grid.size(); ++i)
@@ -245,7 +241,7 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
     std::sort(comp.begin(), comp.end());
     ObjectSegment seg;
     seg.voxels = comp;
-    seg.features = Describe(grid, comp, floor_z, top_z, wall, wall_distance);
+    seg.features = Describe(grid, comp, floor_z, top_z, wall_distance);
     out.segments.push_back(std::move(seg));
   }
   return out;

@@ -150,6 +150,25 @@ Vec3 Textured(const SurfaceLook& look, const Vec3& p, const Vec3& n) {
   return look.albedo;
 }
 
+struct Light {
+  Vec3 p;
+  double intensity;
+};
+
+// Ambient light plus Lambert point lights with inverse-square falloff at `p` (unit normal `n`; two_sided:
+// light from either side of an unoriented normal), darkened near the floor (ambient occlusion).
+double Shade(const Vec3& p, const Vec3& n, const std::vector<Light>& lights, double ambient, double occlusion, double floor_z,
+             bool two_sided) {
+  double shade = ambient;
+  for (const Light& l : lights) {
+    const Vec3 to = l.p - p;
+    const double dist2 = to.squaredNorm();
+    const double cosine = n.dot(to) / std::sqrt(dist2 + 1e-12);
+    shade += l.intensity * (two_sided ? std::abs(cosine) : std::max(0.0, cosine)) / (1 + dist2 / 6.0);
+  }
+  return shade * (1 - occlusion * std::exp(-std::max(0.0, p.z() - floor_z) / 0.25));
+}
+
 void GaussianBlur(ImageF32* image, double sigma) {
   const int r = int(std::ceil(2.5 * sigma));
   std::vector<double> k(size_t(2 * r + 1));
@@ -187,10 +206,6 @@ Status AugmentView(const Image<int32_t>& surface, uint64_t scene_seed, uint64_t 
   Rng rng(SplitMix64(view_seed ^ 0xa09e667f3bcc908bULL));
   // Lights of this view: under the ceiling around the camera.
   const Vec3 eye = view->world_from_camera.translation();
-  struct Light {
-    Vec3 p;
-    double intensity;
-  };
   std::vector<Light> lights(size_t(rng.UniformInt(1, options.max_lights)));
   for (Light& l : lights)
     l = {Vec3(eye.x() + rng.Uniform(-3, 3), eye.y() + rng.Uniform(-3, 3), options.floor_z_m + rng.Uniform(1.9, 2.7)),
@@ -227,13 +242,7 @@ Status AugmentView(const Image<int32_t>& surface, uint64_t scene_seed, uint64_t 
       }
       const Vec3 p = view->world_from_camera * (view->camera.PixelRay(x, y) * double(d));
       const Vec3 n(view->normal.at(x, y, 0), view->normal.at(x, y, 1), view->normal.at(x, y, 2));
-      double shade = ambient;
-      for (const Light& l : lights) {
-        const Vec3 to = l.p - p;
-        const double dist2 = to.squaredNorm();
-        shade += l.intensity * std::max(0.0, n.dot(to) / std::sqrt(dist2 + 1e-12)) / (1 + dist2 / 6.0);
-      }
-      shade *= 1 - occlusion * std::exp(-std::max(0.0, p.z() - options.floor_z_m) / 0.25);
+      const double shade = Shade(p, n, lights, ambient, occlusion, options.floor_z_m, /*two_sided=*/false);
       const Vec3 c = (Textured(it->second, p, n).array() * balance.array()).matrix() * shade * exposure;
       for (int ch = 0; ch < 3; ++ch) colour.at(x, y, ch) = float(std::pow(std::clamp(c[ch], 0.0, 1.0), 1.0 / gamma));
     }
@@ -278,8 +287,8 @@ void RepaintScan(const std::vector<Eigen::Vector3f>& positions, const std::vecto
   std::unordered_map<int32_t, SurfaceLook> looks;
   Rng rng(SplitMix64(scene_seed ^ 0x3c6ef372fe94f82bULL));
   const double ambient = rng.Uniform(0.3, 0.6), occlusion = rng.Uniform(0.0, 0.35);
-  std::vector<double> intensity(lights.size());
-  for (double& v : intensity) v = rng.Uniform(0.5, 1.3);
+  std::vector<Light> lit(lights.size());
+  for (size_t l = 0; l < lights.size(); ++l) lit[l] = {lights[l], rng.Uniform(0.5, 1.3)};
   for (size_t i = 0; i < positions.size() && i < surface.size() && i < colours->size(); ++i) {
     const int32_t s = surface[i];
     if (s < 0) continue;
@@ -288,15 +297,8 @@ void RepaintScan(const std::vector<Eigen::Vector3f>& positions, const std::vecto
     if (it == looks.end()) it = looks.emplace(s, DrawLook(scene_seed, s, Vec3(c8.r, c8.g, c8.b) / 255.0, options)).first;
     const Vec3 p = positions[i].cast<double>();
     const Vec3 n = i < normals.size() ? Vec3(normals[i].cast<double>()) : Vec3(Vec3::Zero());
-    double shade = ambient;
-    for (size_t l = 0; l < lights.size(); ++l) {
-      const Vec3 to = lights[l] - p;
-      const double dist2 = to.squaredNorm();
-      // Unoriented normals: light either side.
-      shade += intensity[l] * std::abs(n.dot(to)) / std::sqrt(dist2 + 1e-12) / (1 + dist2 / 6.0);
-    }
-    shade *= 1 - occlusion * std::exp(-std::max(0.0, p.z() - options.floor_z_m) / 0.25);
-    const Vec3 c = Textured(it->second, p, n) * shade;
+    // Unoriented normals (clouds): light from either side.
+    const Vec3 c = Textured(it->second, p, n) * Shade(p, n, lit, ambient, occlusion, options.floor_z_m, /*two_sided=*/true);
     c8 = Rgb8{uint8_t(std::lround(255 * std::clamp(c.x(), 0.0, 1.0))), uint8_t(std::lround(255 * std::clamp(c.y(), 0.0, 1.0))),
               uint8_t(std::lround(255 * std::clamp(c.z(), 0.0, 1.0)))};
   }
