@@ -122,8 +122,14 @@ struct TrainArgs {
   int max_rows = 20000;                     // Rows kept per k-NN model (even stride), 0 = all.
   int crf_holdout = 5;                      // Last training seeds kept out of the k-NN for CRF weight learning.
   bool voxel_crf_only = false;              // Train only the Voxel-CRF (needs the per-view models in outdir).
+  bool segments_only = false;               // Train only the object-segment classifier.
+  std::string segment_seeds = "0-99";       // Generator seeds the object-segment classifier learns on (randomised scans).
   std::string voxel_crf_seeds = "0-7";      // Generator seeds the Voxel-CRF weights are learned on.
   int voxel_crf_epochs = 12;                // Structural-SVM epochs.
+  // Scans the Voxel-CRF weights learn on: flat (the generator's meshes), randomised (the training scans of
+  // the real-scans work: palettes, textures, simulated clouds) or mixed (alternating, first flat), so that one
+  // set of weights serves clean meshes and real-looking scans.
+  std::string voxel_crf_style = "mixed";
   std::string style = "flat";               // Training views: flat (the shipped models) or randomised (domain randomisation).
 };
 
@@ -132,6 +138,9 @@ Status RunTrain(const TrainArgs& args);
 // `semvox train --voxel-crf`: the Voxel-CRF's weights (structural SVM) and layout prior -> OUTDIR/voxel_crf.txt
 // (apps/voxel_crf_training.cc).
 Status RunTrainVoxelCrf(const TrainArgs& args);
+
+// `semvox train --segments`: only models/object_segments.knn (and object_segments_report.json).
+Status RunTrainSegments(const TrainArgs& args);
 // "A-B" or "A,B,..." -> seeds.
 Status ParseSeedList(const std::string& text, const char* flag, std::vector<uint64_t>* seeds);
 

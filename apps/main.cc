@@ -91,8 +91,13 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--max-rows", train.max_rows, "training rows kept per k-NN model, 0 = all")->check(CLI::NonNegativeNumber);
   train_cmd->add_option("--crf-holdout", train.crf_holdout, "last training seeds used only to learn the CRF weights")->check(CLI::NonNegativeNumber);
   train_cmd->add_flag("--voxel-crf", train.voxel_crf_only, "train only the Voxel-CRF (per-view models must already be in the output directory)");
+  train_cmd->add_flag("--segments", train.segments_only, "train only the object-segment classifier (object_segments.knn)");
+  train_cmd->add_option("--segment-seeds", train.segment_seeds, "generator seeds for the object-segment classifier, e.g. 0-99");
   train_cmd->add_option("--voxel-crf-seeds", train.voxel_crf_seeds, "generator seeds for the Voxel-CRF weights, e.g. 0-7");
   train_cmd->add_option("--voxel-crf-epochs", train.voxel_crf_epochs, "structural-SVM epochs of the Voxel-CRF")->check(CLI::PositiveNumber);
+  train_cmd->add_option("--voxel-crf-style", train.voxel_crf_style,
+                        "scans the Voxel-CRF learns on: flat, randomised, or mixed (alternating seeds; the default)")
+      ->check(CLI::IsMember({"flat", "randomised", "randomized", "mixed"}));
   train_cmd->add_option("--style", train.style, "training views: flat (the generator's own colours; the shipped models) or randomised (palettes, textures, lighting, simulated clouds); validation is scored in both")
       ->check(CLI::IsMember({"randomised", "randomized", "flat"}));
   train_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
@@ -175,7 +180,10 @@ int main(int argc, char** argv) {
     if (*eval_cmd) return Report(semvox::RunEval(eval));
     if (*rooms_cmd) return Report(semvox::RunRooms(rooms_args));
     if (*render_cmd) return Report(semvox::RunRender(render));
-    if (*train_cmd) return Report(train.voxel_crf_only ? semvox::RunTrainVoxelCrf(train) : semvox::RunTrain(train));
+    if (*train_cmd)
+      return Report(train.voxel_crf_only  ? semvox::RunTrainVoxelCrf(train)
+                    : train.segments_only ? semvox::RunTrainSegments(train)
+                                          : semvox::RunTrain(train));
     if (*report_cmd) return Report(semvox::RunReport(report));
     if (*remove_cmd) return Report(semvox::RunRemove(remove_args));
     if (*labels_cmd) return Report(semvox::RunLabels());

@@ -104,7 +104,39 @@ Status ForEachSegmentedView(uint64_t seed, const TrainingViewsOptions& views, co
   });
 }
 
+// The object-segment classifier on randomised scans of --segment-seeds, scored on val_seeds; writes
+// OUT/object_segments.knn and returns the report's JSON.
+Result<nlohmann::json> TrainSegments(const TrainArgs& args, const std::vector<uint64_t>& val_seeds, const LabelLevel& level) {
+  SegmentTrainingOptions so;
+  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.segment_seeds, "--segment-seeds", &so.train_seeds));
+  so.val_seeds = val_seeds;
+  so.scans.style = TrainingStyle::kRandomised;  // Segments always learn from randomised scans (cloud spacing, holes).
+  SegmentTrainingSummary summary;
+  Result<KnnClassifier> seg = TrainSegmentClassifier(so, &summary);
+  if (!seg.ok()) return seg.status();
+  SEMVOX_RETURN_IF_ERROR(seg->Save(args.outdir + "/object_segments.knn"));
+  nlohmann::json j;
+  j["seeds"] = args.segment_seeds;
+  j["train_segments"] = summary.train_segments;
+  j["val_segments"] = summary.val_segments;
+  j["val_segment_accuracy"] = std::round(1e4 * summary.val_segment_accuracy) / 1e4;
+  j["val_voxels"] = Scores(summary.val_voxels, level);
+  std::printf("%s", summary.ToText(level).c_str());
+  return j;
+}
+
 }  // namespace
+
+Status RunTrainSegments(const TrainArgs& args) {
+  std::vector<uint64_t> val_seeds;
+  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.val_seeds, "--val-seeds", &val_seeds));
+  std::error_code ec;
+  std::filesystem::create_directories(args.outdir, ec);
+  if (ec) return Status::InvalidInput(FileError(args.outdir, "cannot create the output directory", ec.message()));
+  Result<nlohmann::json> j = TrainSegments(args, val_seeds, SecondLevel());
+  if (!j.ok()) return j.status();
+  return WriteFileAtomic(args.outdir + "/object_segments_report.json", j->dump(2) + "\n");
+}
 
 Status RunTrain(const TrainArgs& args) {
   std::vector<uint64_t> train_seeds, val_seeds;
@@ -342,24 +374,10 @@ Status RunTrain(const TrainArgs& args) {
     std::printf("object proposals: detection rate %.3f at 5 false positives per image (sampled), speed-up of features + SVM x%.2f\n",
                 proposal_summary.sampled.DetectionRateAt(5.0), proposal_summary.ToJson()["speedup_features_svm"].get<double>());
   }
-  {  // Object segments classified by shape (the Voxel-CRF's segment term), on the same training seeds.
-    SegmentTrainingOptions so;
-    so.train_seeds = train_seeds;
-    so.train_seeds.insert(so.train_seeds.end(), crf_seeds.begin(), crf_seeds.end());
-    so.val_seeds = val_seeds;
-    so.scans = views;
-    so.scans.style = TrainingStyle::kRandomised;  // Segments always learn from randomised scans (cloud spacing, holes).
-    SegmentTrainingSummary summary;
-    Result<KnnClassifier> seg = TrainSegmentClassifier(so, &summary);
-    if (!seg.ok()) return seg.status();
-    SEMVOX_RETURN_IF_ERROR(seg->Save(args.outdir + "/object_segments.knn"));
-    nlohmann::json j;
-    j["train_segments"] = summary.train_segments;
-    j["val_segments"] = summary.val_segments;
-    j["val_segment_accuracy"] = std::round(1e4 * summary.val_segment_accuracy) / 1e4;
-    j["val_voxels"] = Scores(summary.val_voxels, levels[1]);
-    report["object_segments"] = j;
-    std::printf("%s", summary.ToText(levels[1]).c_str());
+  {  // Object segments classified by shape (the Voxel-CRF's segment term).
+    Result<nlohmann::json> j = TrainSegments(args, val_seeds, levels[1]);
+    if (!j.ok()) return j.status();
+    report["object_segments"] = *j;
   }
   SEMVOX_INFO("train: " << std::round(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count())
                          << " s; models and train_report.json in " << args.outdir);

@@ -43,17 +43,23 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
   std::vector<double> layout_counts;
   std::map<int, size_t> other_ids;  // NYU40 ids that fall in "other", by voxel count.
   const int other_class = K - 1;
-  for (uint64_t seed : seeds) {
+  const bool mixed = args.voxel_crf_style == "mixed";
+  TrainingStyle fixed_style = TrainingStyle::kFlat;
+  if (!mixed && !ParseTrainingStyle(args.voxel_crf_style, &fixed_style))
+    return Status::InvalidInput("--voxel-crf-style = '" + args.voxel_crf_style + "': expected flat, randomised or mixed");
+  for (size_t seed_index = 0; seed_index < seeds.size(); ++seed_index) {
+    const uint64_t seed = seeds[seed_index];
     ApartmentOptions ao;
     ao.seed = seed;
     ao.max_rooms = 4;
     Result<Apartment> apt = GenerateApartment(ao);
     if (!apt.ok()) return apt.status();
     Item& it = items.emplace_back();
-    // Scanned as the per-view classifiers were trained (randomised: palettes, textures, lighting, simulated
-    // fused clouds of random spacing), so the weights see the evidence a real scan produces.
+    // Flat scans (the generator's meshes) and randomised ones (palettes, textures, lighting, simulated fused
+    // clouds of random spacing: what a real scan looks like), alternating when mixed, so that the weights
+    // see the evidence of both.
     TrainingViewsOptions style;
-    style.style = TrainingStyle::kRandomised;
+    style.style = mixed ? (seed_index % 2 == 0 ? TrainingStyle::kFlat : TrainingStyle::kRandomised) : fixed_style;
     Result<Scene> scan = MakeTrainingScan(*apt, seed, style);
     if (!scan.ok()) return scan.status();
     it.scene = std::move(scan).value();
@@ -79,7 +85,7 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
     it.renderer.reset();
     size_t occupied = 0;
     for (int g : it.gt) occupied += g > 0;
-    SEMVOX_INFO("voxel CRF training: seed " << seed << ": " << it.gt.size() << " nodes, " << occupied << " occupied in the ground truth");
+    SEMVOX_INFO("voxel CRF training: seed " << seed << " (" << TrainingStyleName(style.style) << "): " << it.gt.size() << " nodes, " << occupied << " occupied in the ground truth");
   }
   // The model: NYU40 id per class ("other" -> its most frequent id in the training apartments).
   std::vector<int> nyu40 = Nyu40OfClasses(level);
@@ -114,6 +120,7 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
   SEMVOX_RETURN_IF_ERROR(model.Save((std::filesystem::path(args.outdir) / "voxel_crf.txt").string()));
   nlohmann::ordered_json report;
   report["seeds"] = args.voxel_crf_seeds;
+  report["style"] = args.voxel_crf_style;
   report["epochs"] = lo.epochs;
   report["learning_rate"] = lo.learning_rate;
   report["regularization"] = lo.regularization;

@@ -13,9 +13,12 @@ bool SegmentOptions::Check(std::string* error) const {
     return false;
   };
   if (!(floor_band_m >= 0 && ceiling_band_m >= 0)) return fail("floor_band_m and ceiling_band_m must be >= 0");
-  if (!(wall_min_run_m > 0 && wall_min_length_m > 0 && wall_max_gap_m >= 0))
-    return fail("wall_min_run_m and wall_min_length_m must be > 0, wall_max_gap_m >= 0");
+  if (!(wall_min_coverage > 0 && wall_min_coverage <= 1)) return fail("wall_min_coverage must be in (0, 1]");
+  if (!(wall_band_bottom_m >= 0 && wall_band_top_m >= 0 && wall_min_length_m > 0))
+    return fail("wall_band_bottom_m and wall_band_top_m must be >= 0, wall_min_length_m > 0");
   if (wall_dilation_cells < 0) return fail("wall_dilation_cells must be >= 0");
+  if (!(split_height_m >= 0 && split_top_step_m >= 0 && min_part_area_m2 >= 0))
+    return fail("split_height_m, split_top_step_m and min_part_area_m2 must be >= 0");
   if (min_voxels < 1 || max_voxels < min_voxels) return fail("segment sizes: need 1 <= min_voxels <= max_voxels");
   return true;
 }
@@ -24,7 +27,8 @@ const char* SegmentFeatureName(int f) {
   static const char* kNames[kNumSegmentFeatures] = {"bottom_m",       "top_m",        "length_m",      "width_m",
                                                     "footprint_m2",   "volume_m3",    "fill",          "top_surface_m",
                                                     "top_share",      "up_share",     "side_share",    "wall_distance_m",
-                                                    "wall_contact",   "layers",       "under_share",   "ceiling_gap_m"};
+                                                    "wall_contact",   "layers",       "under_share",   "ceiling_gap_m",
+                                                    "thickness_m",    "neighbour_rise_m"};
   return f >= 0 && f < kNumSegmentFeatures ? kNames[f] : "?";
 }
 
@@ -108,6 +112,27 @@ std::array<float, kNumSegmentFeatures> Describe(const VoxelGrid& grid, const std
   f[kSegLayers] = float(layers);
   f[kSegUnderShare] = float(under / footprint_cells);
   f[kSegCeilingGap] = float(std::max(0.0, top_z - zmax));
+  // Thickness: breadth-first chessboard distance from the footprint's edge inwards.
+  std::map<std::pair<int, int>, int> depth;
+  std::vector<std::pair<int, int>> queue;
+  for (const auto& [xy, zz] : columns) {
+    bool edge = false;
+    for (int dy = -1; dy <= 1 && !edge; ++dy)
+      for (int dx = -1; dx <= 1 && !edge; ++dx) edge = !columns.count({xy.first + dx, xy.second + dy});
+    if (edge) depth[xy] = 1, queue.push_back(xy);
+  }
+  int deepest = 1;
+  for (size_t head = 0; head < queue.size(); ++head) {
+    const auto q = queue[head];
+    const int dq = depth.at(q);
+    deepest = std::max(deepest, dq);
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const std::pair<int, int> n{q.first + dx, q.second + dy};
+        if (columns.count(n) && !depth.count(n)) depth[n] = dq + 1, queue.push_back(n);
+      }
+  }
+  f[kSegThickness] = float(std::min(length, std::min(width, (2.0 * deepest - 1.0) * res)));
   return f;
 }
 
@@ -136,6 +161,91 @@ std::vector<float> WallDistance(const std::vector<uint8_t>& wall, int w, int h, 
   return dist;
 }
 
+// Cuts one component into parts of similar top height: every footprint column (x, y) gets the height of
+// its highest voxel; 8-connected columns whose tops are within `step` cells of the region's mean top grow
+// into one region;
+// regions under `min_cells` columns join the neighbouring region they share most border with (largest
+// first, repeated until none is left or nothing touches). Each voxel goes to its column's region. Objects
+// that touch (a desk beside a bed, a table against a sofa) have different tops and come apart; a flat
+// top with noise, a sloped cushion and the pillows on a bed stay one.
+std::vector<std::vector<uint32_t>> SplitByTopHeight(const VoxelGrid& grid, std::vector<uint32_t> voxels, int step, int min_cells) {
+  std::map<std::pair<int, int>, int> top;  // column -> highest cell
+  for (uint32_t v : voxels) {
+    const auto c = grid.Cell(v);
+    auto [it, inserted] = top.try_emplace({c[0], c[1]}, c[2]);
+    if (!inserted) it->second = std::max(it->second, c[2]);
+  }
+  if (step <= 0 || top.size() < 2) return {std::move(voxels)};
+  std::map<std::pair<int, int>, int> region;
+  std::vector<int> size;
+  for (const auto& [xy, z] : top) {
+    if (region.count(xy)) continue;
+    const int id = int(size.size());
+    size.push_back(0);
+    // Breadth first, against the region's mean top so far: a chain of small steps (a sloped cushion
+    // between a seat and a back) does not join surfaces of different heights.
+    std::vector<std::pair<int, int>> queue{xy};
+    region[xy] = id;
+    double sum = 0;
+    for (size_t head = 0; head < queue.size(); ++head) {
+      const auto q = queue[head];
+      ++size.back();
+      sum += top.at(q);
+      const double mean = sum / size.back();
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const std::pair<int, int> n{q.first + dx, q.second + dy};
+          const auto t = top.find(n);
+          if (t == top.end() || region.count(n) || std::abs(t->second - mean) > step + 0.5) continue;
+          region[n] = id;
+          queue.push_back(n);
+        }
+    }
+  }
+  // Merge small regions into the neighbour with the longest shared border.
+  std::vector<int> parent(size.size());
+  for (size_t i = 0; i < parent.size(); ++i) parent[i] = int(i);
+  auto find = [&](int a) {
+    while (parent[size_t(a)] != a) a = parent[size_t(a)] = parent[size_t(parent[size_t(a)])];
+    return a;
+  };
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::map<std::pair<int, int>, int> border;  // (small region, neighbour) -> shared column pairs
+    for (const auto& [xy, r0] : region) {
+      const int a = find(r0);
+      if (size[size_t(a)] >= min_cells) continue;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto it = region.find({xy.first + dx, xy.second + dy});
+          if (it == region.end()) continue;
+          const int b = find(it->second);
+          if (b != a) ++border[{a, b}];
+        }
+    }
+    std::map<int, std::pair<int, int>> best;  // small region -> (border, neighbour)
+    for (const auto& [ab, n] : border) {
+      auto& cur = best[ab.first];
+      if (n > cur.first || (n == cur.first && size[size_t(ab.second)] > size[size_t(cur.second)])) cur = {n, ab.second};
+    }
+    for (const auto& [a, nb] : best) {
+      const int ra = find(a), rb = find(nb.second);
+      if (ra == rb || size[size_t(ra)] >= min_cells) continue;
+      parent[size_t(ra)] = rb;
+      size[size_t(rb)] += size[size_t(ra)];
+      changed = true;
+    }
+  }
+  std::map<int, std::vector<uint32_t>> parts;
+  for (uint32_t v : voxels) {
+    const auto c = grid.Cell(v);
+    parts[find(region.at({c[0], c[1]}))].push_back(v);
+  }
+  std::vector<std::vector<uint32_t>> out;
+  for (auto& [r, part] : parts) out.push_back(std::move(part));
+  return out;
+}
+
 }  // namespace
 
 SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double ceiling_z, bool ceiling_found,
@@ -150,44 +260,46 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
   for (size_t i = 0; i < grid.size(); ++i)
     if (grid.state(i) == VoxelState::kOccupied) top_cell = std::max(top_cell, grid.Cell(i)[2]);
   const double top_z = ceiling_found ? ceiling_z : (top_cell >= 0 ? grid.CellCenter(0, 0, top_cell).z() : floor_z);
-  // Wall-like columns: a long vertical run of occupied voxels (gaps up to 2 cells bridged).
-  const int min_run = std::max(1, int(std::ceil(options.wall_min_run_m / res)));
-  std::vector<uint8_t> tall(size_t(d[0]) * d[1], 0);
-  for (int y = 0; y < d[1]; ++y)
-    for (int x = 0; x < d[0]; ++x) {
-      int run_start = -1, last = -100, best = 0;
-      for (int z = 0; z < d[2]; ++z) {
-        if (grid.state(grid.Index(x, y, z)) != VoxelState::kOccupied) continue;
-        if (z - last > 3) run_start = z;
-        last = z;
-        best = std::max(best, z - run_start + 1);
-      }
-      tall[size_t(y) * d[0] + x] = best >= min_run;
-    }
-  // Walls: wall-like columns lined up along x or y over wall_min_length_m.
+  // Wall columns: occupied over at least wall_min_coverage of the band [floor + wall_band_bottom_m, top -
+  // wall_band_top_m] (gaps of any length allowed: a sparse scan leaves holes, windows and doors cut walls),
+  // in 8-connected groups that extend over at least wall_min_length_m (so walls need not be axis-aligned:
+  // a diagonal bathroom wall is a wall; a lone tall column is not).
+  const int band_lo = std::max(0, grid.CellOf(Eigen::Vector3d(0, 0, floor_z + options.wall_band_bottom_m))[2]);
+  const int band_hi = std::min(d[2] - 1, grid.CellOf(Eigen::Vector3d(0, 0, top_z - options.wall_band_top_m))[2]);
+  const int band_cells = band_hi - band_lo + 1;
   std::vector<uint8_t> wall(size_t(d[0]) * d[1], 0);
-  const int min_len = std::max(1, int(std::ceil(options.wall_min_length_m / res)));
-  const int max_gap = int(std::floor(options.wall_max_gap_m / res));
-  for (int axis = 0; axis < 2; ++axis) {
-    const int lines = axis == 0 ? d[1] : d[0], along = axis == 0 ? d[0] : d[1];
-    for (int l = 0; l < lines; ++l) {
-      auto idx = [&](int t) { return axis == 0 ? size_t(l) * d[0] + t : size_t(t) * d[0] + l; };
-      int t = 0;
-      while (t < along) {
-        if (!tall[idx(t)]) {
-          ++t;
-          continue;
-        }
-        int end = t, gap = 0;
-        for (int u = t + 1; u < along && gap <= max_gap; ++u) {
-          if (tall[idx(u)]) end = u, gap = 0;
-          else ++gap;
-        }
-        if (end - t + 1 >= min_len)
-          for (int u = t; u <= end; ++u)
-            if (tall[idx(u)]) wall[idx(u)] = 1;
-        t = end + 1;
+  if (band_cells >= 2) {
+    for (int y = 0; y < d[1]; ++y)
+      for (int x = 0; x < d[0]; ++x) {
+        int count = 0;
+        for (int z = band_lo; z <= band_hi; ++z) count += grid.state(grid.Index(x, y, z)) == VoxelState::kOccupied;
+        wall[size_t(y) * d[0] + x] = count >= options.wall_min_coverage * band_cells;
       }
+    std::vector<uint8_t> done(wall.size(), 0);
+    std::vector<int> stack, group;
+    for (size_t s = 0; s < wall.size(); ++s) {
+      if (!wall[s] || done[s]) continue;
+      group.clear();
+      stack.assign(1, int(s));
+      done[s] = 1;
+      int x0 = d[0], x1 = -1, y0 = d[1], y1 = -1;
+      while (!stack.empty()) {
+        const int i = stack.back();
+        stack.pop_back();
+        group.push_back(i);
+        const int x = i % d[0], y = i / d[0];
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= d[0] || yy >= d[1]) continue;
+            const size_t j = size_t(yy) * d[0] + xx;
+            if (wall[j] && !done[j]) done[j] = 1, stack.push_back(int(j));
+          }
+      }
+      const double extent = res * std::hypot(double(x1 - x0 + 1), double(y1 - y0 + 1));
+      if (extent < options.wall_min_length_m)
+        for (int i : group) wall[size_t(i)] = 0;
     }
   }
   if (options.wall_dilation_cells > 0) {
@@ -213,35 +325,99 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
     else if (ceiling_found && z > ceiling_z - options.ceiling_band_m) out.structure[i] = 2;
     else if (wall[size_t(c[1]) * d[0] + c[0]]) out.structure[i] = 3;
   }
-  // 26-connected components of the rest.
-  std::vector<uint8_t> seen(grid.size(), 0);
-  std::vector<uint32_t> stack, comp;
-  for (size_t s = 0; s < grid.size(); ++s) {
-    if (seen[s] || grid.state(s) != VoxelState::kOccupied || out.structure[s]) continue;
-    comp.clear();
-    seen[s] = 1;
-    stack.push_back(uint32_t(s));
+  // 26-connected components of the rest, in two passes so that low clutter, rugs and scan noise on the
+  // floor do not bridge a room's furniture into one segment: components of the voxels at least
+  // `split_height_m` above the floor first (the cores), then the lower voxels join the core they touch
+  // (breadth first from all cores at once, ties to the core found first), and the low voxels that reach
+  // no core form components of their own.
+  const int split_cell = grid.CellOf(Eigen::Vector3d(0, 0, floor_z + options.split_height_m))[2];
+  std::vector<int32_t> component(grid.size(), -1);
+  auto is_object = [&](size_t i) { return grid.state(i) == VoxelState::kOccupied && !out.structure[i]; };
+  auto for_neighbours = [&](uint32_t i, auto&& visit) {
+    const auto c = grid.Cell(i);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
+          if (grid.Contains(x, y, z)) visit(uint32_t(grid.Index(x, y, z)));
+        }
+  };
+  int num_components = 0;
+  std::vector<uint32_t> stack;
+  auto flood = [&](size_t seed, bool high_only) {
+    const int id = num_components++;
+    component[seed] = id;
+    stack.assign(1, uint32_t(seed));
     while (!stack.empty()) {
       const uint32_t i = stack.back();
       stack.pop_back();
-      comp.push_back(i);
-      const auto c = grid.Cell(i);
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
-            if (!grid.Contains(x, y, z)) continue;
-            const size_t j = grid.Index(x, y, z);
-            if (seen[j] || grid.state(j) != VoxelState::kOccupied || out.structure[j]) continue;
-            seen[j] = 1;
-            stack.push_back(uint32_t(j));
-          }
+      for_neighbours(i, [&](uint32_t j) {
+        if (component[j] >= 0 || !is_object(j) || (high_only && grid.Cell(j)[2] < split_cell)) return;
+        component[j] = id;
+        stack.push_back(j);
+      });
     }
-    if (int(comp.size()) < options.min_voxels || int(comp.size()) > options.max_voxels) continue;
-    std::sort(comp.begin(), comp.end());
+  };
+  for (size_t s = 0; s < grid.size(); ++s)
+    if (component[s] < 0 && is_object(s) && grid.Cell(s)[2] >= split_cell) flood(s, true);
+  std::vector<uint32_t> frontier;
+  for (size_t s = 0; s < grid.size(); ++s)
+    if (component[s] >= 0) frontier.push_back(uint32_t(s));
+  while (!frontier.empty()) {
+    std::vector<uint32_t> next;
+    for (uint32_t i : frontier)
+      for_neighbours(i, [&](uint32_t j) {
+        if (component[j] >= 0 || !is_object(j)) return;
+        component[j] = component[i];
+        next.push_back(j);
+      });
+    frontier.swap(next);
+  }
+  for (size_t s = 0; s < grid.size(); ++s)
+    if (component[s] < 0 && is_object(s)) flood(s, false);
+  std::vector<std::vector<uint32_t>> whole(static_cast<size_t>(num_components));
+  for (size_t i = 0; i < grid.size(); ++i)
+    if (component[i] >= 0) whole[size_t(component[i])].push_back(uint32_t(i));
+  const int step = int(std::lround(options.split_top_step_m / res));
+  const int min_cells = std::max(1, int(std::lround(options.min_part_area_m2 / (res * res))));
+  struct Part {
+    std::vector<uint32_t> voxels;
+    float rise = 0;  // kSegNeighbourRise
+  };
+  std::vector<Part> parts;
+  for (std::vector<uint32_t>& comp : whole) {
+    std::vector<std::vector<uint32_t>> cut = SplitByTopHeight(grid, std::move(comp), step, min_cells);
+    // Tops of the parts, and which part owns each column, for the rise of the highest adjacent part.
+    std::map<std::pair<int, int>, int> owner;
+    std::vector<int> top(cut.size(), -1);
+    for (size_t p = 0; p < cut.size(); ++p)
+      for (uint32_t v : cut[p]) {
+        const auto c = grid.Cell(v);
+        owner[{c[0], c[1]}] = int(p);
+        top[p] = std::max(top[p], c[2]);
+      }
+    std::vector<int> highest_neighbour(cut.size(), -1);
+    for (const auto& [xy, p] : owner)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto it = owner.find({xy.first + dx, xy.second + dy});
+          if (it != owner.end() && it->second != p) highest_neighbour[size_t(p)] = std::max(highest_neighbour[size_t(p)], top[size_t(it->second)]);
+        }
+    for (size_t p = 0; p < cut.size(); ++p) {
+      Part part;
+      std::sort(cut[p].begin(), cut[p].end());
+      part.voxels = std::move(cut[p]);
+      if (highest_neighbour[p] > top[p]) part.rise = float((highest_neighbour[p] - top[p]) * res);
+      parts.push_back(std::move(part));
+    }
+  }
+  std::sort(parts.begin(), parts.end(), [](const Part& a, const Part& b) { return a.voxels.front() < b.voxels.front(); });
+  for (Part& part : parts) {
+    if (int(part.voxels.size()) < options.min_voxels || int(part.voxels.size()) > options.max_voxels) continue;
     ObjectSegment seg;
-    seg.voxels = comp;
-    seg.features = Describe(grid, comp, floor_z, top_z, wall_distance);
+    seg.features = Describe(grid, part.voxels, floor_z, top_z, wall_distance);
+    seg.features[kSegNeighbourRise] = part.rise;
+    seg.voxels = std::move(part.voxels);
     out.segments.push_back(std::move(seg));
   }
   return out;

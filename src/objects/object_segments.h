@@ -13,12 +13,16 @@
 // the per-view evidence.
 //
 // Structure, removed first: the floor layer (within `floor_band_m` of the floor), the ceiling layer (within
-// `ceiling_band_m` of a found ceiling), and walls: in the canonical frame walls lie along the grid axes, so
-// a column (x, y) is wall-like when its longest vertical run of occupied voxels (gaps up to 2 cells
-// bridged) is at least `wall_min_run_m` tall, and wall-like columns that line up along x or along y over at
-// least `wall_min_length_m` (gaps up to `wall_max_gap_m`) are walls. Tall furniture narrower than that
-// (a fridge, a shelf) and furniture under wall cabinets (two shorter runs) stay objects. What remains is
-// cut into 26-connected components of at least `min_voxels`.
+// `ceiling_band_m` of a found ceiling), and walls: walls run from floor to ceiling, so a column (x, y) is a
+// wall column when at least `wall_min_coverage` of its cells between floor + `wall_band_bottom_m` and the
+// ceiling (or the scan's top) - `wall_band_top_m` are occupied, in any order: a sparse real scan leaves
+// holes in walls, and windows and doors cut them. 8-connected groups of wall columns shorter than
+// `wall_min_length_m` are dropped (a lone tall column is furniture); walls need not lie along the axes.
+// Counters, tables, beds and sofas, and wall cabinets above a counter, cover too little of the band and
+// stay objects. What remains is cut into 26-connected components of at least `min_voxels`, found above
+// floor + `split_height_m` first so that clutter and noise on the floor do not join the furniture of a room,
+// and each component is cut into parts of similar top height (`split_top_step_m`, parts of at least
+// `min_part_area_m2`): furniture that touches (a desk beside a bed) has different tops.
 #pragma once
 
 #include <array>
@@ -34,10 +38,15 @@ namespace semvox {
 struct SegmentOptions {
   double floor_band_m = 0.08;       // Voxels with centre below floor + this are floor. >= 0.
   double ceiling_band_m = 0.15;     // ... above ceiling - this are ceiling (when the ceiling was found). >= 0.
-  double wall_min_run_m = 0.8;      // Vertical occupied run of a wall-like column, metres. > 0.
-  double wall_min_length_m = 1.0;   // Wall-like columns in a line along x or y over at least this, metres. > 0.
-  double wall_max_gap_m = 0.2;      // ... bridging gaps up to this, metres. >= 0.
+  double wall_min_coverage = 0.4;   // Share of a column's wall band that is occupied for a wall column. (0, 1].
+  double wall_band_bottom_m = 0.25; // Wall band: from floor + this ... >= 0.
+  double wall_band_top_m = 0.35;    // ... to the ceiling (or the scan's top) - this. >= 0.
+  double wall_min_length_m = 1.0;   // 8-connected wall columns whose extent (bounding-box diagonal) is under this are not walls. > 0.
   int wall_dilation_cells = 1;      // Wall columns grow by this many cells (thick, noisy walls). >= 0.
+  double split_height_m = 0.25;     // Segments are cut above floor + this; lower voxels join what they touch. >= 0.
+  double split_top_step_m = 0.1;    // Parts of a segment: footprint columns whose tops differ by at most this grow
+                                    // into one part (0: no cut). >= 0.
+  double min_part_area_m2 = 0.12;   // Parts with a smaller footprint join the neighbouring part. >= 0.
   int min_voxels = 12;              // Smaller components are not segments. >= 1.
   int max_voxels = 200000;          // Larger components (a whole scan that is one blob) are not segments. >= min_voxels.
   bool Check(std::string* error) const;
@@ -61,6 +70,10 @@ enum SegmentFeature : int {
   kSegLayers,           // Upward-facing layers holding >= 10 % of the footprint (shelves, seats + backs).
   kSegUnderShare,       // Footprint cells whose lowest voxel is above floor + 0.15 m (legs, overhangs, hung).
   kSegCeilingGap,       // Ceiling (or scan top) minus top, metres.
+  kSegThickness,        // Twice the largest distance from a footprint cell to the footprint's edge, metres: an
+                        // L-shaped sofa seat is long and wide in its box but 0.6-0.9 m thick, a bed 1.4-2 m.
+  kSegNeighbourRise,    // How far the highest adjacent part of the same component rises above this part's top,
+                        // metres, 0 when none does (a seat beside its back, a counter under wall cabinets).
   kNumSegmentFeatures
 };
 

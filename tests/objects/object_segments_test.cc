@@ -10,16 +10,24 @@ namespace {
 
 // A 6 x 5 m room at 5 cm (floor at z = 0, walls 2.5 m high, one cell thick), with a bed (2.0 x 1.5 m,
 // 0.5 m high, a solid box), a table (1.2 x 0.8 m top at 0.75 m on four legs) and a fridge (0.7 x 0.7 m,
-// 1.8 m high) against the north wall.
+// 1.8 m high, its surface only, as a scan sees it) 0.3 m in front of the north wall.
 struct Room {
   static constexpr double kRes = 0.05;
   VoxelGrid grid{kRes, {32768 - 10, 32768 - 10, 32768}, {140, 120, 56}};
   // Cell of a metric position (x, y from the room's corner at cell 10, z from the floor cell 0).
   int C(double m) const { return int(std::floor(m / kRes + 1e-9)); }
-  void Fill(double x0, double y0, double z0, double x1, double y1, double z1) {
+  void Fill(double x0, double y0, double z0, double x1, double y1, double z1, bool shell = false) {
     for (int z = C(z0); z < C(z1); ++z)
       for (int y = 10 + C(y0); y < 10 + C(y1); ++y)
-        for (int x = 10 + C(x0); x < 10 + C(x1); ++x) grid.set_state(grid.Index(x, y, z), VoxelState::kOccupied);
+        for (int x = 10 + C(x0); x < 10 + C(x1); ++x) {
+          const bool inside = z + 1 < C(z1) && y > 10 + C(y0) && y + 1 < 10 + C(y1) && x > 10 + C(x0) && x + 1 < 10 + C(x1);
+          if (!shell || !inside) grid.set_state(grid.Index(x, y, z), VoxelState::kOccupied);
+        }
+  }
+  void Clear(double x0, double y0, double z0, double x1, double y1, double z1) {
+    for (int z = C(z0); z < C(z1); ++z)
+      for (int y = 10 + C(y0); y < 10 + C(y1); ++y)
+        for (int x = 10 + C(x0); x < 10 + C(x1); ++x) grid.set_state(grid.Index(x, y, z), VoxelState::kFree);
   }
   Room() {
     Fill(0, 0, 0, 6, 5, 0.05);            // floor layer
@@ -31,7 +39,7 @@ struct Room {
     Fill(4.0, 1.0, 0.70, 5.2, 1.8, 0.75); // table top
     for (double lx : {4.0, 5.15})
       for (double ly : {1.0, 1.75}) Fill(lx, ly, 0.05, lx + 0.05, ly + 0.05, 0.70);
-    Fill(4.5, 4.3, 0.05, 5.2, 5.0, 1.8);  // fridge
+    Fill(4.5, 4.0, 0.05, 5.2, 4.7, 1.8, /*shell=*/true);  // fridge
   }
   // The floor surface inside the floor layer (cell 0): its centre.
   double FloorZ() const { return grid.CellCenter(0, 0, 0).z(); }
@@ -55,7 +63,7 @@ TEST(ObjectSegments, WallsAndFloorAreStructureAndFurnitureSegmentsHaveTheirShape
   ASSERT_EQ(r.segments.size(), 3u);
   const ObjectSegment* bed = SegmentAt(r, room.grid, 40, 40, 5);
   const ObjectSegment* table = SegmentAt(r, room.grid, 100, 40, 14);
-  const ObjectSegment* fridge = SegmentAt(r, room.grid, 105, 100, 20);
+  const ObjectSegment* fridge = SegmentAt(r, room.grid, 105, 90, 20);  // its front face
   ASSERT_TRUE(bed && table && fridge);
   EXPECT_NE(bed, table);
   EXPECT_NE(table, fridge);
@@ -73,7 +81,7 @@ TEST(ObjectSegments, WallsAndFloorAreStructureAndFurnitureSegmentsHaveTheirShape
   EXPECT_LT(table->features[kSegFill], 0.3);           // a top on legs
   EXPECT_GT(table->features[kSegUnderShare], 0.8);     // most of its footprint is above 0.15 m
   EXPECT_NEAR(fridge->features[kSegTop], 1.75, tol);
-  EXPECT_LT(fridge->features[kSegWallDistance], 0.5);  // against the north wall
+  EXPECT_LT(fridge->features[kSegWallDistance], 0.8);  // near the north wall
   EXPECT_GT(bed->features[kSegWallDistance], 0.9);
   // Deterministic.
   const SegmentationResult again = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, SegmentOptions{});
@@ -81,12 +89,50 @@ TEST(ObjectSegments, WallsAndFloorAreStructureAndFurnitureSegmentsHaveTheirShape
   for (size_t i = 0; i < r.segments.size(); ++i) EXPECT_EQ(again.segments[i].voxels, r.segments[i].voxels);
 }
 
+// A real scan leaves walls full of holes and not always along the axes; furniture that touches has
+// different tops; clutter on the floor touches everything.
+TEST(ObjectSegments, HoledAndDiagonalWallsAreWallsAndTouchingFurnitureComesApart) {
+  Room room;
+  // Knock every third cell out of the west wall's columns at staggered heights (coverage about 2/3), and a
+  // window (1 m wide, 0.9-2.0 m) out of the south wall.
+  for (int y = 9; y <= 111; ++y)
+    for (int z = 0; z < 50; ++z)
+      if ((z + y) % 3 == 0) room.grid.set_state(room.grid.Index(9, y, z), VoxelState::kFree);
+  room.Clear(2.0, -0.05, 0.9, 3.0, 0.0, 2.0);
+  // A diagonal wall, 1.4 m long, 2.5 m high, across the south-west corner (45 degrees).
+  for (int t = 0; t < 20; ++t)
+    for (int z = 0; z < 50; ++z) room.grid.set_state(room.grid.Index(10 + 2 + t, 10 + 22 - t, z), VoxelState::kOccupied);
+  // A desk (0.75 m top, 1.0 x 0.6 m, solid) touching the bed's east side, and a rug-like layer of clutter
+  // 0.1-0.15 m above the floor joining the bed to the table.
+  room.Fill(3.0, 1.0, 0.05, 4.0, 1.6, 0.75);
+  room.Fill(3.0, 1.7, 0.05, 4.05, 1.8, 0.15);
+  const double floor_z = room.FloorZ();
+  const SegmentationResult r = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, SegmentOptions{});
+  EXPECT_EQ(r.structure[room.grid.Index(9, 60, 31)], 3);   // west wall, holed
+  EXPECT_EQ(r.structure[room.grid.Index(14, 50, 35)], 0);  // nothing there
+  EXPECT_EQ(r.structure[room.grid.Index(10 + 2 + 10, 10 + 22 - 10, 30)], 3);  // the diagonal wall
+  const ObjectSegment* bed = SegmentAt(r, room.grid, 40, 40, 5);
+  const ObjectSegment* desk = SegmentAt(r, room.grid, 75, 35, 12);
+  const ObjectSegment* table = SegmentAt(r, room.grid, 100, 40, 14);
+  ASSERT_TRUE(bed && desk && table);
+  EXPECT_NE(bed, desk);
+  EXPECT_NE(bed, table);
+  EXPECT_NEAR(bed->features[kSegTop], 0.45, 0.051);
+  EXPECT_NEAR(desk->features[kSegTop], 0.70, 0.051);
+  // Without the cuts the bed, desk and table are one segment.
+  SegmentOptions whole;
+  whole.split_height_m = 0;
+  whole.split_top_step_m = 0;
+  const SegmentationResult w = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, whole);
+  EXPECT_EQ(SegmentAt(w, room.grid, 40, 40, 5), SegmentAt(w, room.grid, 100, 40, 14));
+}
+
 TEST(ObjectSegments, RejectsBadOptions) {
   SegmentOptions o;
-  o.wall_min_run_m = 0;
+  o.wall_min_coverage = 0;
   std::string error;
   EXPECT_FALSE(o.Check(&error));
-  EXPECT_NE(error.find("wall_min_run_m"), std::string::npos);
+  EXPECT_NE(error.find("wall_min_coverage"), std::string::npos);
 }
 
 }  // namespace
