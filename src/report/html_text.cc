@@ -47,9 +47,14 @@ std::string Hex(const Rgb8& c) {
   return buf;
 }
 
-std::string ScriptSafeJson(std::string json) {
-  for (size_t p = 0; (p = json.find("</", p)) != std::string::npos; p += 3) json.replace(p, 2, "<\\/");
-  return json;
+std::string ScriptSafeJson(const std::string& json) {
+  std::string out;
+  out.reserve(json.size());
+  for (char c : json) {
+    if (c == '<') out += "\\u003c";
+    else out += c;
+  }
+  return out;
 }
 
 }  // namespace semvox::html

@@ -13,7 +13,8 @@ std::string Escape(const std::string& s);
 std::string Base64(const std::string& bytes);
 // "#rrggbb".
 std::string Hex(const Rgb8& c);
-// JSON text made safe inside a <script> element: "</" becomes "<\/" (the same JSON value).
-std::string ScriptSafeJson(std::string json);
+// JSON text made safe inside a <script> element: every '<' (only inside strings in JSON) becomes \u003c, the same
+// JSON value, so neither "</script" nor "<!--" can occur.
+std::string ScriptSafeJson(const std::string& json);
 
 }  // namespace semvox::html

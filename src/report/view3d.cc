@@ -25,8 +25,6 @@ constexpr double kFallbackVoxelSizeM = 0.05;
 constexpr double kSameCoordinateM = 1e-4;
 // Cells of the view along an axis before MergeToFit must be representable (indices are int32).
 constexpr double kMaxCellIndex = double(1 << 30);
-// Colour of voxels outside every room in "colour by room" (and of its switch).
-constexpr Rgb8 kNoRoomColour{190, 190, 190};
 // Walls and furniture switch with the nearest room this close (RoomGroups), metres: half the width of a bed.
 constexpr double kRoomReachM = 1.0;
 
@@ -300,7 +298,7 @@ std::string View3dHtml(const View3dVoxels& voxels, const std::vector<View3dRoom>
   const auto& nyu40 = Nyu40Labels();
   auto class_name = [&](int id) { return id < kNumNyu40 ? std::string(nyu40[size_t(id)].name) : "label " + std::to_string(id); };
   auto class_colour = [&](int id) { return id < kNumNyu40 ? nyu40[size_t(id)].color : Rgb8{128, 128, 128}; };
-  auto room_colour = [&](int id) { return id > 0 ? RoomDisplayColour(id) : kNoRoomColour; };
+  auto room_colour = [&](int id) { return id > 0 ? RoomDisplayColour(id) : kView3dNoRoomColour; };
   auto room_text = [&](int id) {
     if (id == 0) return std::string("outside every room");
     auto it = room_types.find(id);
@@ -327,7 +325,9 @@ std::string View3dHtml(const View3dVoxels& voxels, const std::vector<View3dRoom>
   data["origin"] = {voxels.origin.x(), voxels.origin.y(), voxels.origin.z()};
   data["dims"] = {voxels.dims[0], voxels.dims[1], voxels.dims[2]};
   data["background"] = ColourJson(kView3dBackground);
-  data["no_room_colour"] = ColourJson(kNoRoomColour);
+  data["no_room_colour"] = ColourJson(kView3dNoRoomColour);
+  data["completed_colour"] = ColourJson(kView3dCompletedColour);
+  data["seen_colour"] = ColourJson(kView3dSeenColour);
   data["cells"] = html::Base64(LittleEndian16(ijk));
   data["labels"] = html::Base64(LittleEndian16(labels));
   data["confidence"] = voxels.has_confidence ? nlohmann::ordered_json(html::Base64(confidence)) : nlohmann::ordered_json();

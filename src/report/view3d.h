@@ -84,5 +84,10 @@ const char* View3dCss();
 
 // Background of the 3D canvas (rgb(233, 236, 241)); tests look for it in screenshots.
 inline constexpr Rgb8 kView3dBackground{233, 236, 241};
+// "Colour by seen / completed": voxels never seen and inferred occupied, and the others.
+inline constexpr Rgb8 kView3dCompletedColour{226, 61, 200};
+inline constexpr Rgb8 kView3dSeenColour{178, 184, 192};
+// "Colour by room": voxels outside every room.
+inline constexpr Rgb8 kView3dNoRoomColour{190, 190, 190};
 
 }  // namespace semvox

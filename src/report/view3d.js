@@ -87,9 +87,16 @@
   // ---- switches ----
   var classShown = {}, roomShown = {};
   var classBoxes = section.querySelectorAll('input[data-class]'), roomBoxes = section.querySelectorAll('input[data-room]');
+  // Reads the switches; their `checked` attributes follow, so that the DOM shows the state.
   function readSwitches() {
-    Array.prototype.forEach.call(classBoxes, function (b) { classShown[+b.getAttribute('data-class')] = b.checked; });
-    Array.prototype.forEach.call(roomBoxes, function (b) { roomShown[+b.getAttribute('data-room')] = b.checked; });
+    Array.prototype.forEach.call(classBoxes, function (b) {
+      classShown[+b.getAttribute('data-class')] = b.checked;
+      b.toggleAttribute('checked', b.checked);
+    });
+    Array.prototype.forEach.call(roomBoxes, function (b) {
+      roomShown[+b.getAttribute('data-room')] = b.checked;
+      b.toggleAttribute('checked', b.checked);
+    });
   }
   readSwitches();
   function isShown(v) { return classShown[labels[v]] === true && (!roomGroups || roomShown[roomGroups[v]] === true); }
@@ -97,7 +104,7 @@
   // ---- colours ----
   var mode = 'class';
   var VIRIDIS = [[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]];
-  var COMPLETED = [226, 61, 200], SEEN = [178, 184, 192];
+  var COMPLETED = data.completed_colour, SEEN = data.seen_colour;
   // Shade per face direction +x, -x, +y, -y, +z, -z: top faces keep the colour, the others are darker.
   var SHADE = [0.80, 0.70, 0.62, 0.88, 1.0, 0.45];
   function baseColour(v, out) {
@@ -262,12 +269,16 @@
     camera.updateMatrixWorld();
     requestRender();
   }
+  // Resizing the canvas clears it: draw again at once (not at the next frame) so that no blank frame shows.
+  var canvasSize = [0, 0];
   function resize() {
     var w = Math.max(1, stage.clientWidth), h = Math.max(1, stage.clientHeight);
+    if (w === canvasSize[0] && h === canvasSize[1]) return;
+    canvasSize = [w, h];
     renderer.setSize(w, h, false);
     camera.aspect = w / h;
     camera.updateProjectionMatrix();
-    requestRender();
+    if (mesh) render();
   }
   // Looks from the direction `angles` at the shown voxels' bounding box (all voxels when none is shown), so that
   // the box fills the view.
