@@ -188,7 +188,7 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_BOOL_FIELD("report", report, view_3d,
                                   "interactive 3D view of voxels.ply in report.html (three.js inlined; `semvox report --no-3d` leaves it out)"));
     f.push_back(SEMVOX_INT_FIELD("report", report, view_3d_max_voxels, 1000, 10000000,
-                                 "voxels in the 3D view at most (about 16 bytes each in the page); larger maps merge 2x2x2 blocks until they fit"));
+                                 "voxels in the 3D view at most (about 18 bytes each in the page); larger maps merge 2x2x2 blocks until they fit"));
     // ---- end report ----
     return f;
   }();

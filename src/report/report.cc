@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -30,7 +31,7 @@ namespace {
 constexpr const char* kNotComputed = "<p class=\"na\">not computed</p>\n";
 // occupancy.pgm values (mapping/occupancy_map.h, map_server trinary).
 constexpr uint8_t kPgmOccupied = 0, kPgmFree = 254, kPgmUnknown = 205;
-// Allowed range of ReportOptions::view_3d_max_voxels: at the top about 160 MB of page.
+// Allowed range of ReportOptions::view_3d_max_voxels (at the top about 180 MB of page).
 constexpr int kMinView3dVoxels = 1000, kMaxView3dVoxels = 10000000;
 
 using html::Base64;
@@ -197,7 +198,6 @@ std::string RoomTableCss() {
   return "table.rooms tbody tr{background:" + Hex(kRoomTableBackground) + ";height:" + h + "}\n" +
          "table.rooms tbody td{height:" + h + ";line-height:" + h + "}\n";
 }
-
 
 // What voxels.ply holds for the class histogram and the 3D view: absent, unreadable (with the reader's
 // message) or read.

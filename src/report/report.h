@@ -33,7 +33,7 @@ struct ReportOptions {
   int image_display_width_px = 640;         // Top views are shown at about this width (integer zoom, nearest pixel).
   bool read_voxels_ply = true;              // Class histogram from voxels.ply when present (else from summary.json).
   bool view_3d = true;                      // The interactive 3D view of voxels.ply (`semvox report --no-3d`: false).
-  int view_3d_max_voxels = 1000000;         // Voxels in the 3D view at most (about 16 bytes each in the page); larger
+  int view_3d_max_voxels = 1000000;         // Voxels in the 3D view at most (about 18 bytes each in the page); larger
                                             // maps merge 2x2x2 blocks until they fit.
   std::string three_js_path;                // three.js (UMD build, e.g. three.min.js) inlined for the 3D view; empty:
                                             // DefaultThreeJsPath().

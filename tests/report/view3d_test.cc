@@ -412,6 +412,28 @@ TEST_F(View3dInChromium, WithoutWebGlTheViewSaysSo) {
   EXPECT_EQ(p.dom.find("<canvas"), std::string::npos);
 }
 
+// report.view_3d_max_voxels: a map over the budget is merged into 2x2x2 blocks until it fits, and says so.
+TEST(View3dReport, LargeMapsAreMergedToTheBudget) {
+  testing::ScratchDir dir("view3d_budget");
+  const std::string d = dir.path().string();
+  WriteSceneOutdir(d, /*with_voxels=*/true);
+  testing::WriteText(d + "/three.js", "var THREE = {};");
+  ReportOptions options;
+  options.three_js_path = d + "/three.js";
+  ReportSummary summary;
+  ASSERT_TRUE(RenderReportHtml(d, options, &summary).ok());
+  EXPECT_EQ(summary.view_3d_merge, 1);
+  const size_t all = summary.view_3d_voxels;
+  EXPECT_GT(all, 3000u);
+  options.view_3d_max_voxels = 1000;
+  Result<std::string> html = RenderReportHtml(d, options, &summary);
+  ASSERT_TRUE(html.ok());
+  EXPECT_LE(summary.view_3d_voxels, 1000u);
+  EXPECT_GE(summary.view_3d_merge, 2);
+  EXPECT_NE(html->find(std::to_string(summary.view_3d_voxels) + " voxels (" ), std::string::npos);
+  EXPECT_NE(html->find("voxels of voxels.ply merged into cells of " + std::to_string(summary.view_3d_merge) + "&times;"), std::string::npos);
+}
+
 // A run directory without voxels.ply, or with a damaged one: the report is still written and its 3D section is one
 // line saying why, in the browser too (no canvas, no console output).
 TEST(View3dReport, WithoutUsableVoxelsThePageSaysWhy) {

@@ -101,7 +101,9 @@ TEST(ObjectRemoval, InstancesAreConnectedComponentsOfOneLabel) {
   EXPECT_EQ(per_label[nyu40::kTable], 1);
   EXPECT_EQ(per_label[nyu40::kWall], 1);  // The four walls touch at the corners.
   for (const auto& in : inst) {
-    if (in.label == nyu40::kTelevision) EXPECT_EQ(in.voxels, room.tv.size());
+    if (in.label == nyu40::kTelevision) {
+      EXPECT_EQ(in.voxels, room.tv.size());
+    }
   }
   for (size_t k = 0; k < id.size(); ++k) EXPECT_EQ(room.map.occupied[k].label, inst[size_t(id[k] - 1)].label);
 }
