@@ -401,7 +401,11 @@
   }
   canvas.addEventListener('contextmenu', function (e) { e.preventDefault(); });
   canvas.addEventListener('pointerdown', function (e) {
-    canvas.setPointerCapture(e.pointerId);
+    try {
+      canvas.setPointerCapture(e.pointerId);  // Drags continue outside the canvas; not every pointer can be captured.
+    } catch (err) {
+      // Without capture the drag ends at the canvas border.
+    }
     pointers[e.pointerId] = {x: e.clientX, y: e.clientY};
     var count = pointerList().length;
     if (count === 1) {

@@ -402,6 +402,49 @@ TEST_F(View3dInChromium, ClickNamesTheVoxel) {
   EXPECT_NE(miss.dom.find("no voxel there"), std::string::npos);
 }
 
+// Mouse input, as synthetic pointer and wheel events injected into a copy of the page: a drag turns the view, the
+// wheel zooms in (the map covers more of the canvas), a click without movement picks a voxel.
+TEST_F(View3dInChromium, DragTurnsWheelZoomsAndClickPicks) {
+  const std::string page = testing::ReadText(dir_.File("report.html"));
+  const size_t end = page.rfind("</body>");
+  ASSERT_NE(end, std::string::npos);
+  auto with_events = [&](const std::string& name, const std::string& events) {
+    const std::string script = R"(<script>
+(function () {
+  var c = document.getElementById('v3-canvas'), r = c.getBoundingClientRect();
+  function p(type, x, y, button) {
+    c.dispatchEvent(new PointerEvent(type, {pointerId: 7, bubbles: true, cancelable: true, pointerType: 'mouse', button: button || 0,
+                                             buttons: 1, clientX: r.left + x * r.width, clientY: r.top + y * r.height}));
+  }
+  function wheel(dy) {
+    c.dispatchEvent(new WheelEvent('wheel', {bubbles: true, cancelable: true, deltaY: dy, clientX: r.left + r.width / 2, clientY: r.top + r.height / 2}));
+  }
+  )" + events + R"(
+})();
+</script>
+)";
+    testing::WriteText(dir_.File(name), page.substr(0, end) + script + page.substr(end));
+    return testing::LoadPage(chromium_, "file://" + dir_.File(name) + "#3d&view=top", dir_.path().string(), kShotWidth, kShotHeight);
+  };
+  const testing::PageLoad still = with_events("still.html", "");
+  const testing::PageLoad turned = with_events("turned.html", "p('pointerdown', 0.5, 0.5); p('pointermove', 0.7, 0.6); p('pointerup', 0.7, 0.6);");
+  const testing::PageLoad zoomed = with_events("zoomed.html", "wheel(-400);");
+  const testing::PageLoad clicked = with_events("clicked.html", "p('pointerdown', 0.45, 0.5); p('pointerup', 0.45, 0.5);");
+  for (const auto* p : {&still, &turned, &zoomed, &clicked}) {
+    ASSERT_EQ(p->shot.width, kShotWidth) << p->log;
+    EXPECT_EQ(p->console, "") << "the page wrote to the console";
+    EXPECT_NE(p->dom.find("data-state=\"ready\""), std::string::npos);
+  }
+  size_t changed = 0;
+  for (int y = 0; y < kShotHeight; ++y)
+    for (int x = 0; x < kShotWidth - 260; ++x)
+      changed += still.shot.at(x, y, 0) != turned.shot.at(x, y, 0) || still.shot.at(x, y, 1) != turned.shot.at(x, y, 1);
+  EXPECT_GT(changed, size_t(0.1 * kShotWidth * kShotHeight)) << "the drag did not turn the view";
+  EXPECT_LT(PixelsOf(zoomed.shot, kView3dBackground, 0), PixelsOf(still.shot, kView3dBackground, 0) / 2) << "the wheel did not zoom in";
+  EXPECT_NE(clicked.dom.find("table (NYU40 7) \u00b7 confidence 0.75"), std::string::npos);
+  EXPECT_EQ(turned.dom.find("table (NYU40 7)"), std::string::npos) << "a drag is no click";
+}
+
 // A browser without WebGL gets one line instead of an empty canvas.
 TEST_F(View3dInChromium, WithoutWebGlTheViewSaysSo) {
   const testing::PageLoad p = Load("#3d", 0, 0, "--disable-3d-apis");
