@@ -457,7 +457,9 @@
 
   // ---- controls of the bar and the side panel ----
   var colourSelect = document.getElementById('v3-colour');
+  var MODES = ['class', 'room', 'confidence', 'completed'];
   function setMode(m) {
+    if (MODES.indexOf(m) < 0) return;
     var option = colourSelect.querySelector('option[value="' + m + '"]');
     if (!option || option.disabled) return;
     colourSelect.value = m;
@@ -521,8 +523,8 @@
     if (options.view === 'top') fit(TOP);
     else if (initial || options.view === 'home') fit(HOME);
     if (options.pick) {
-      var xy = options.pick.split(',');
-      pickAt(parseFloat(xy[0]) * canvas.clientWidth, parseFloat(xy[1]) * canvas.clientHeight);
+      var xy = options.pick.split(','), fx = parseFloat(xy[0]), fy = parseFloat(xy[1]);
+      if (isFinite(fx) && isFinite(fy)) pickAt(fx * canvas.clientWidth, fy * canvas.clientHeight);
     }
   }
   window.addEventListener('hashchange', function () { applyFragment(false); });

@@ -400,6 +400,11 @@ TEST_F(View3dInChromium, ClickNamesTheVoxel) {
       << p.dom.substr(p.dom.find("id=\"v3-info\""), 300);
   const testing::PageLoad miss = Load("#3d&view=top&pick=0.01,0.5");
   EXPECT_NE(miss.dom.find("no voxel there"), std::string::npos);
+  // Nonsense in the fragment is ignored.
+  const testing::PageLoad odd = Load("#3d&colour=a%22b&hide=nothing,%3Cb%3E&pick=x,y&view=sideways&hide_rooms=-1");
+  EXPECT_EQ(odd.console, "");
+  EXPECT_NE(odd.dom.find("data-state=\"ready\""), std::string::npos);
+  EXPECT_NE(odd.dom.find("click a voxel for its class"), std::string::npos);
 }
 
 // Mouse input, as synthetic pointer and wheel events injected into a copy of the page: a drag turns the view, the
