@@ -146,7 +146,9 @@ Status ParseSeedList(const std::string& text, const char* flag, std::vector<uint
 
 // ---- report and labels (apps/report_command.cc, apps/labels_command.cc) ----
 struct ReportArgs {
-  std::string outdir;  // OUTDIR of a `semvox run`.
+  std::string outdir;       // OUTDIR of a `semvox run`.
+  std::string config_path;  // Optional YAML file; its report section applies.
+  bool no_3d = false;       // Leave the 3D view out (overrides report.view_3d).
 };
 // `semvox report`: (re)writes OUTDIR/report.html (src/report/report.h).
 Status RunReport(const ReportArgs& args);

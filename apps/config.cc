@@ -27,7 +27,7 @@ struct Field {
 
 #define SEMVOX_DOUBLE_FIELD(sec, member, name, lo, hi, doc)                                       \
   Field { sec, #name, doc, lo, hi, [](const PipelineConfig& c) { return double(c.member.name); }, \
-          [](PipelineConfig& c, double v) { c.member.name = v; } }
+          [](PipelineConfig& c, double v) { c.member.name = v; }, false, {}, {}, {} }
 // A true / false field (printed and read as the words).
 #define SEMVOX_BOOL_FIELD(sec, member, name, text)                                                                     \
   [] {                                                                                                                 \
@@ -39,7 +39,7 @@ struct Field {
   }()
 #define SEMVOX_INT_FIELD(sec, member, name, lo, hi, doc)                                          \
   Field { sec, #name, doc, lo, hi, [](const PipelineConfig& c) { return double(c.member.name); }, \
-          [](PipelineConfig& c, double v) { c.member.name = decltype(c.member.name)(v); }, true }
+          [](PipelineConfig& c, double v) { c.member.name = decltype(c.member.name)(v); }, true, {}, {}, {} }
 
 const std::vector<Field>& Fields() {
   static const std::vector<Field> kFields = [] {
@@ -184,6 +184,12 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("objects", objects.proposal, min_score, 0, 1, "proposals scoring below this (the SVM's probability of an object) are dropped"));
     f.push_back(SEMVOX_DOUBLE_FIELD("objects", objects, merge_iou, 0.01, 1, "3D IoU at which proposals of different views merge"));
     // ---- end objects ----
+    // ---- report: report.html (report/report.h) ----
+    f.push_back(SEMVOX_BOOL_FIELD("report", report, view_3d,
+                                  "interactive 3D view of voxels.ply in report.html (three.js inlined; `semvox report --no-3d` leaves it out)"));
+    f.push_back(SEMVOX_INT_FIELD("report", report, view_3d_max_voxels, 1000, 10000000,
+                                 "voxels in the 3D view at most (about 18 bytes each in the page); larger maps merge 2x2x2 blocks until they fit"));
+    // ---- end report ----
     return f;
   }();
   return kFields;
@@ -268,6 +274,7 @@ Status CheckConfig(const PipelineConfig& config) {
   if (!config.render.Check(&error)) return Status::InvalidInput("configuration: render." + error);
   if (!config.semantic.Check(&error)) return Status::InvalidInput("configuration: semantic." + error);
   if (!config.objects.Check(&error)) return Status::InvalidInput("configuration: objects." + error);
+  if (!config.report.Check(&error)) return Status::InvalidInput("configuration: report." + error);
   return Status::Ok();
 }
 
@@ -286,7 +293,9 @@ std::string DumpConfig(const PipelineConfig& config) {
       for (const auto& c : f.choices) range += (range.empty() ? "" : " | ") + c;
     } else {
       value = FormatNumber(f.get(config), f.is_integer);
-      range = "[" + FormatNumber(f.min, f.is_integer) + ", " + FormatNumber(f.max, f.is_integer) + "]";
+      std::ostringstream r;  // A stream, not string concatenation: GCC 12 warns falsely (-Wrestrict) about the latter.
+      r << "[" << FormatNumber(f.min, f.is_integer) << ", " << FormatNumber(f.max, f.is_integer) << "]";
+      range = r.str();
     }
     os << "  " << f.key << ": " << value << "  # " << f.doc << "; " << range << "\n";
   }

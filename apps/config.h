@@ -17,6 +17,7 @@
 #include "render/views.h"
 #include "apps/semantic_stage.h"
 #include "objects/support_stage.h"
+#include "report/report.h"
 
 namespace semvox {
 
@@ -30,6 +31,7 @@ struct PipelineConfig {
   ViewsOptions render;  // Section "render": viewpoints and virtual views (render/views.h).
   SemanticStageOptions semantic;  // Section "semantic": classification views and the Voxel-CRF (apps/semantic_stage.h).
   SupportStageOptions objects;    // Section "objects": support / clutter and object proposals (objects/support_stage.h).
+  ReportOptions report;           // Section "report": report.html (report/report.h).
 };
 
 // Applies the settings in `path` on top of `config`.

@@ -131,6 +131,8 @@ int main(int argc, char** argv) {
   semvox::ReportArgs report;
   CLI::App* report_cmd = app.add_subcommand("report", "(re)write OUTDIR/report.html from a run's outputs");
   report_cmd->add_option("outdir", report.outdir, "output directory of semvox run")->required();
+  report_cmd->add_option("--config", report.config_path, "YAML configuration (its report section applies)");
+  report_cmd->add_flag("--no-3d", report.no_3d, "leave the interactive 3D view out of the page");
   report_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
   semvox::RemoveArgs remove_args;
   CLI::App* remove_cmd = app.add_subcommand("remove", "remove objects from a run's map and complete the space behind them");

@@ -301,7 +301,10 @@ Status RunPipeline(const RunArgs& args) {
   const std::string text = s.dump(2) + "\n";
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(args.outdir) / "summary.json").string(), text));
   // The self-contained HTML report of everything above (src/report).
-  SEMVOX_RETURN_IF_ERROR(WriteReport(args.outdir));
+  ReportSummary report;
+  SEMVOX_RETURN_IF_ERROR(WriteReport(args.outdir, config.report, &report));
+  // A run without the semantic stage has no voxels.ply: the page says so, no warning needed.
+  if (!report.view_3d_absent.empty() && semantic) SEMVOX_WARN("report.html: 3D view not available: " << report.view_3d_absent);
   if (args.json) std::cout << text;
   SEMVOX_INFO("outputs in " << args.outdir << (semantic ? " (report.html, voxels.ply, map.ot, semantic_topview.png, rooms.geojson, occupancy.pgm/.yaml, map.bt, summary.json, ...)"
                                                         : " (report.html, occupancy.pgm/.yaml, rooms.geojson, map.bt, summary.json)"));

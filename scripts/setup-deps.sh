@@ -5,9 +5,10 @@ PACKAGES=(build-essential cmake ninja-build ccache lld pkg-config git
   libpcl-dev liboctomap-dev libceres-dev libopencv-dev libopencv-contrib-dev libassimp-dev libeigen3-dev
   libembree-dev libtbb-dev libnanoflann-dev libsvm-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev libboost-dev
-  python3-onnx python3-numpy)  # python3-onnx: the ONNX backend tests write tiny networks (Debian python3).
+  python3-onnx python3-numpy  # python3-onnx: the ONNX backend tests write tiny networks (Debian python3).
+  libjs-three)  # three.js, inlined into report.html's 3D view when a report is written (src/report/view3d.h).
 # Test-only packages, added with --test (scripts/test.sh; the demo does not need them): chromium loads
-# report.html headless in tests/report.
+# report.html headless in tests/report (its 3D view with software WebGL).
 TEST_PACKAGES=(chromium)
 if [ "${1:-}" = "--test" ]; then PACKAGES+=("${TEST_PACKAGES[@]}"); fi
 missing=()

@@ -3,8 +3,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -17,6 +19,8 @@
 #include "core/ply.h"
 #include "io/image_encode.h"
 #include "io/image_io.h"
+#include "report/html_text.h"
+#include "report/view3d.h"
 
 namespace semvox {
 namespace fs = std::filesystem;
@@ -27,42 +31,12 @@ namespace {
 constexpr const char* kNotComputed = "<p class=\"na\">not computed</p>\n";
 // occupancy.pgm values (mapping/occupancy_map.h, map_server trinary).
 constexpr uint8_t kPgmOccupied = 0, kPgmFree = 254, kPgmUnknown = 205;
+// Allowed range of ReportOptions::view_3d_max_voxels (at the top about 180 MB of page).
+constexpr int kMinView3dVoxels = 1000, kMaxView3dVoxels = 10000000;
 
-std::string Escape(const std::string& s) {
-  std::string out;
-  out.reserve(s.size());
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
-std::string Base64(const std::string& bytes) {
-  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const uint32_t v = uint32_t(uint8_t(bytes[i])) << 16 | uint32_t(uint8_t(bytes[i + 1])) << 8 | uint8_t(bytes[i + 2]);
-    for (int k = 3; k >= 0; --k) out += kAlphabet[(v >> (6 * k)) & 63];
-  }
-  if (i < bytes.size()) {
-    uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
-    if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63] : '=';
-    out += '=';
-  }
-  return out;
-}
+using html::Base64;
+using html::Escape;
+using html::Hex;
 
 std::string Num(double v, int decimals) {
   if (!std::isfinite(v)) return "n/a";
@@ -81,12 +55,6 @@ std::string Count(double v) {
     out += digits[i];
   }
   return (n < 0 ? "-" : "") + out;
-}
-
-std::string Hex(const Rgb8& c) {
-  char buf[8];
-  std::snprintf(buf, sizeof(buf), "#%02x%02x%02x", c.r, c.g, c.b);
-  return buf;
 }
 
 // A JSON scalar as text (strings unquoted, numbers with up to 4 decimals, null as "n/a").
@@ -231,7 +199,86 @@ std::string RoomTableCss() {
          "table.rooms tbody td{height:" + h + ";line-height:" + h + "}\n";
 }
 
+// What voxels.ply holds for the class histogram and the 3D view: absent, unreadable (with the reader's
+// message) or read.
+struct VoxelsPly {
+  std::string path;
+  bool present = false;
+  std::optional<PlyData> data;
+  std::string error;  // When present but unreadable.
+};
+
+VoxelsPly ReadVoxelsPly(const fs::path& path) {
+  VoxelsPly v;
+  v.path = path.string();
+  v.present = Exists(path);
+  if (!v.present) return v;
+  Result<PlyData> ply = ReadPly(path.string());
+  if (ply.ok()) v.data = std::move(ply).value();
+  else v.error = ply.status().message();
+  return v;
+}
+
+// summary.json's frame.input_from_canonical (4x4 row-major) inverted; the identity when absent, not applied or
+// not a rigid 4x4 matrix of numbers.
+Eigen::Isometry3d CanonicalFromInput(const ordered_json& s) {
+  const ordered_json* frame = Get(s, "frame");
+  const ordered_json* applied = frame ? Get(*frame, "applied") : nullptr;
+  const ordered_json* m = frame ? Get(*frame, "input_from_canonical") : nullptr;
+  if (!applied || !applied->is_boolean() || !applied->get<bool>() || !m || !m->is_array() || m->size() != 4)
+    return Eigen::Isometry3d::Identity();
+  Eigen::Matrix4d t;
+  for (int r = 0; r < 4; ++r) {
+    const ordered_json& row = (*m)[size_t(r)];
+    if (!row.is_array() || row.size() != 4) return Eigen::Isometry3d::Identity();
+    for (int c = 0; c < 4; ++c) {
+      if (!row[size_t(c)].is_number()) return Eigen::Isometry3d::Identity();
+      t(r, c) = row[size_t(c)].get<double>();
+    }
+  }
+  const Eigen::Matrix3d rot = t.topLeftCorner<3, 3>();
+  if (!t.allFinite() || !(rot.transpose() * rot).isIdentity(1e-6)) return Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d input_from_canonical = Eigen::Isometry3d::Identity();
+  input_from_canonical.linear() = rot;
+  input_from_canonical.translation() = t.topRightCorner<3, 1>();
+  return input_from_canonical.inverse();
+}
+
+// The 3D view, or the line saying why there is none (summary->view_3d_absent).
+std::string View3dSection(const ordered_json& s, const VoxelsPly& voxels, const std::vector<RoomRow>& room_rows,
+                          const ReportOptions& options, ReportSummary* summary) {
+  auto absent = [&](const std::string& why) {
+    summary->view_3d_absent = why;
+    return View3dAbsentHtml(why);
+  };
+  if (!voxels.present) return absent("voxels.ply not found (the semantic stage did not run; semantic.enabled: true writes it)");
+  if (!voxels.data) return absent(voxels.error);  // The reader's message: the file, what is wrong, a hint.
+  Result<View3dVoxels> read = View3dVoxelsFromPly(*voxels.data, voxels.path, CanonicalFromInput(s), NumberOr(Get(s, "voxel_size_m"), 0));
+  if (!read.ok()) return absent(read.status().message());
+  if (read->cells.empty()) return absent("voxels.ply holds no occupied voxels");
+  const std::string three_path = options.three_js_path.empty() ? DefaultThreeJsPath() : options.three_js_path;
+  std::string three_js;
+  if (!Exists(three_path) || !ReadFileBytes(three_path, &three_js).ok())
+    return absent("three.js not found at " + three_path + " (install the Debian package libjs-three, or set SEMVOX_THREE_JS to a three.min.js)");
+  std::string lower(three_js.size(), ' ');
+  std::transform(three_js.begin(), three_js.end(), lower.begin(), [](char c) { return char(std::tolower(uint8_t(c))); });
+  if (lower.find("</script") != std::string::npos)
+    return absent(three_path + " cannot be inlined into the page (it contains \"</script\")");
+  const View3dVoxels shown = MergeToFit(std::move(read).value(), size_t(options.view_3d_max_voxels));
+  std::vector<View3dRoom> rooms;
+  for (const RoomRow& r : room_rows) rooms.push_back({r.id, r.type});
+  summary->view_3d = true;
+  summary->view_3d_voxels = shown.cells.size();
+  summary->view_3d_merge = shown.merge;
+  return View3dHtml(shown, rooms, three_js);
+}
+
 }  // namespace
+
+std::string DefaultThreeJsPath() {
+  if (const char* env = std::getenv("SEMVOX_THREE_JS"); env && *env) return env;
+  return SEMVOX_THREE_JS_DEFAULT;
+}
 
 bool ReportOptions::Check(std::string* error) const {
   if (output_name.empty() || output_name.find('/') != std::string::npos || output_name == "." || output_name == "..") {
@@ -240,6 +287,11 @@ bool ReportOptions::Check(std::string* error) const {
   }
   if (image_display_width_px < 64 || image_display_width_px > 8192) {
     *error = "image_display_width_px = " + std::to_string(image_display_width_px) + ". Allowed range: [64, 8192]";
+    return false;
+  }
+  if (view_3d_max_voxels < kMinView3dVoxels || view_3d_max_voxels > kMaxView3dVoxels) {
+    *error = "view_3d_max_voxels = " + std::to_string(view_3d_max_voxels) + ". Allowed range: [" + std::to_string(kMinView3dVoxels) +
+             ", " + std::to_string(kMaxView3dVoxels) + "]";
     return false;
   }
   return true;
@@ -262,7 +314,10 @@ Rgb8 RoomDisplayColour(int id) {
   return {q(r), q(g), q(b)};
 }
 
-Result<std::string> RenderReportHtml(const std::string& outdir, const ReportOptions& options) {
+Result<std::string> RenderReportHtml(const std::string& outdir, const ReportOptions& options, ReportSummary* summary) {
+  ReportSummary local_summary;
+  if (!summary) summary = &local_summary;
+  *summary = ReportSummary();
   std::string error;
   if (!options.Check(&error)) return Status::InvalidInput("report options: " + error);
   const fs::path dir(outdir);
@@ -289,9 +344,11 @@ Result<std::string> RenderReportHtml(const std::string& outdir, const ReportOpti
 
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>semvox report: "
-       << Escape(fs::path(outdir).filename().string()) << "</title>\n<style>" << kCss << RoomTableCss() << "</style>\n</head>\n<body>\n";
+       << Escape(fs::path(outdir).filename().string()) << "</title>\n<style>" << kCss << RoomTableCss() << (options.view_3d ? View3dCss() : "")
+       << "</style>\n</head>\n<body>\n";
   html << "<h1>semvox report</h1>\n<p class=\"muted\">" << Escape(outdir);
   if (const auto* v = Get(s, "semvox_version")) html << " &middot; semvox " << Escape(Scalar(*v));
+  if (options.view_3d) html << " &middot; <a href=\"#3d\">3D view</a>";
   html << "</p>\n";
 
   // ---- input summary ----
@@ -447,16 +504,16 @@ Result<std::string> RenderReportHtml(const std::string& outdir, const ReportOpti
     }
   }
 
+  // voxels.ply: the class histogram and the 3D view. Unreadable is no error: both say so.
+  const VoxelsPly voxels = options.read_voxels_ply || options.view_3d ? ReadVoxelsPly(dir / "voxels.ply") : VoxelsPly();
+
   // ---- class histogram ----
   html << "<h2 id=\"classes\">Classes</h2>\n";
   {
     std::map<std::string, double> counts;  // NYU40 name -> occupied voxels.
-    std::string source;
-    const fs::path ply_path = dir / "voxels.ply";
-    if (options.read_voxels_ply && Exists(ply_path)) {
-      Result<PlyData> ply = ReadPly(ply_path.string());
-      if (!ply.ok()) return ply.status();
-      const PlyElement* vertex = ply->Find("vertex");
+    std::string source, unreadable;
+    if (options.read_voxels_ply && voxels.data) {
+      const PlyElement* vertex = voxels.data->Find("vertex");
       const PlyProperty* label = vertex ? vertex->Find("label") : nullptr;
       if (label && !label->is_list) {
         const auto& names = Nyu40Labels();
@@ -465,13 +522,17 @@ Result<std::string> RenderReportHtml(const std::string& outdir, const ReportOpti
           counts[id >= 0 && id < kNumNyu40 ? names[size_t(id)].name : std::to_string(id)] += 1;
         }
         source = "voxels.ply (" + Count(double(vertex->count)) + " occupied voxels)";
+      } else {
+        unreadable = "voxels.ply has no vertex label";
       }
+    } else if (options.read_voxels_ply && voxels.present) {
+      unreadable = "voxels.ply is damaged";
     }
     if (source.empty() && semantic)
       if (const auto* labels = Get(*semantic, "labels"); labels && labels->is_object() && !labels->empty()) {
         for (const auto& [name, v] : labels->items())
           if (v.is_number()) counts[name] += v.get<double>();
-        source = "summary.json";
+        source = "summary.json" + (unreadable.empty() ? "" : " (" + unreadable + ")");
       }
     if (source.empty()) html << kNotComputed;
     else {
@@ -491,6 +552,9 @@ Result<std::string> RenderReportHtml(const std::string& outdir, const ReportOpti
       html << "</table>\n";
     }
   }
+
+  // ---- 3D view ----
+  if (options.view_3d) html << View3dSection(s, voxels, rooms, options, summary);
 
   // ---- seconds per stage ----
   html << "<h2 id=\"time\">Seconds per stage</h2>\n";
@@ -547,12 +611,15 @@ Result<std::string> RenderReportHtml(const std::string& outdir, const ReportOpti
   }
 
   html << "<p class=\"muted\">Written by <code>semvox report</code> from the files in this directory; self-contained "
-          "(inline images and styles, no scripts, no network).</p>\n</body>\n</html>\n";
-  return html.str();
+       << (summary->view_3d ? "(inline images, styles and scripts; no network)" : "(inline images and styles, no scripts, no network)")
+       << ".</p>\n</body>\n</html>\n";
+  std::string page = html.str();
+  summary->bytes = page.size();
+  return page;
 }
 
-Status WriteReport(const std::string& outdir, const ReportOptions& options) {
-  Result<std::string> html = RenderReportHtml(outdir, options);
+Status WriteReport(const std::string& outdir, const ReportOptions& options, ReportSummary* summary) {
+  Result<std::string> html = RenderReportHtml(outdir, options, summary);
   if (!html.ok()) return html.status();
   return WriteFileAtomic((fs::path(outdir) / options.output_name).string(), html.value());
 }

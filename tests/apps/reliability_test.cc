@@ -103,7 +103,12 @@ TEST(Reliability, InterruptLeavesNoPartialOutputAndARerunCompletes) {
     ::waitpid(pid2, &status, 0);
     for (const std::string& f : Listing(out)) EXPECT_EQ(f.find(".tmp."), std::string::npos) << f;
     // Whatever was written is complete: summary.json, when present, parses.
-    if (fs::exists(out + "/summary.json")) EXPECT_NO_THROW((void)nlohmann::json::parse(testing::ReadText(out + "/summary.json")));
+    if (fs::exists(out + "/summary.json")) {
+      EXPECT_NO_THROW({
+        const nlohmann::json parsed = nlohmann::json::parse(testing::ReadText(out + "/summary.json"));
+        EXPECT_TRUE(parsed.is_object());
+      });
+    }
     // A re-run into the same directory completes.
     const Outcome again = RunSemvox("run " + input + " -o " + out + " -q", dir);
     EXPECT_EQ(again.exit_code, 0) << again.err;

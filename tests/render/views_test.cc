@@ -136,7 +136,9 @@ TEST(RenderViews, DemoApartmentKeptViewsSeeItsSurface) {
     EXPECT_EQ(r.id, int(i));
     EXPECT_EQ(r.position, int(i / 36));
     EXPECT_EQ(r.yaw_deg, 10.0 * (i % 36));
-    if (r.drop == ViewDrop::kTooClose) EXPECT_LT(r.median_depth_m, options.min_median_depth_m);
+    if (r.drop == ViewDrop::kTooClose) {
+      EXPECT_LT(r.median_depth_m, options.min_median_depth_m);
+    }
   }
   EXPECT_GT(views->num_kept(), views->views.size() / 2);
 

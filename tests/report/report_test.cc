@@ -10,6 +10,7 @@
 #include "core/ply.h"
 #include "io/image_io.h"
 #include "report/report.h"
+#include "tests/report/chromium.h"
 #include "tests/test_util.h"
 
 namespace semvox {
@@ -81,12 +82,22 @@ std::string Base64Decode(const std::string& in) {
   return out;
 }
 
-// Every src/href is a data: URI (or a fragment) and no http(s) URL appears anywhere: nothing to fetch.
+// Every src/href is a data: URI (or a fragment) and no http(s) URL appears anywhere but in the inlined three.js,
+// whose text is the library's file byte for byte (its URLs are the XHTML namespace name and references in
+// comments; nothing is fetched): nothing to fetch.
 void ExpectSelfContained(const std::string& html) {
-  EXPECT_EQ(html.find("http://"), std::string::npos);
-  EXPECT_EQ(html.find("https://"), std::string::npos);
+  std::string rest = html;
+  const std::string open = "<script id=\"v3-three\">\n";
+  if (const size_t a = html.find(open); a != std::string::npos) {
+    const size_t b = html.find("\n</script>", a + open.size());
+    ASSERT_NE(b, std::string::npos);
+    EXPECT_EQ(html.substr(a + open.size(), b - a - open.size()), testing::ReadText(DefaultThreeJsPath()));
+    rest = html.substr(0, a) + html.substr(b);
+  }
+  EXPECT_EQ(rest.find("http://"), std::string::npos);
+  EXPECT_EQ(rest.find("https://"), std::string::npos);
   const std::regex attr(R"re((src|href)\s*=\s*"([^"]*)")re");
-  for (auto it = std::sregex_iterator(html.begin(), html.end(), attr); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(rest.begin(), rest.end(), attr); it != std::sregex_iterator(); ++it) {
     const std::string value = (*it)[2];
     EXPECT_TRUE(value.rfind("data:image/png;base64,", 0) == 0 || value.rfind("#", 0) == 0) << value.substr(0, 60);
   }
@@ -160,6 +171,7 @@ TEST(Report, AbsentSectionsSayNotComputedAndBadFilesAreErrors) {
   // Occupancy, semantic and room views; room table; classes; energies: 6 sections without data.
   EXPECT_EQ(Occurrences(html, "not computed"), 6u);
   EXPECT_NE(html.find("<b>50.0 %</b> of 4 voxels"), std::string::npos);
+  EXPECT_NE(html.find("3D view not available: voxels.ply not found"), std::string::npos);
   for (auto& e : std::filesystem::directory_iterator(d)) EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
   testing::WriteText(d + "/rooms.geojson", "{\"features\": [");
   st = WriteReport(d);
@@ -170,38 +182,118 @@ TEST(Report, AbsentSectionsSayNotComputedAndBadFilesAreErrors) {
   EXPECT_EQ(WriteReport(d, bad).code(), StatusCode::kInvalidInput);
 }
 
-int Shell(const std::string& cmd) {
-  const int rc = std::system(cmd.c_str());
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+
+// A fake three.js: the page inlines whatever file three_js_path names.
+std::string WriteFakeThreeJs(const std::string& dir) {
+  const std::string path = dir + "/three.fake.js";
+  testing::WriteText(path, "var THREE = {REVISION: 'fake'}; /* fake three.js for report_test */");
+  return path;
 }
 
-std::string FindChromium() {
-  for (const char* c : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
-    if (std::filesystem::exists(c)) return c;
-  return "";
+// The 3D view: three.js and the view's script inline, the voxels' data, the header's link to #3d; the page is
+// the same twice; the summary says what it holds.
+TEST(Report, HoldsThe3dViewWithThreeJsInline) {
+  testing::ScratchDir dir("report_3d");
+  const std::string d = dir.path().string();
+  WriteFakeOutdir(d, /*with_semantic=*/true);
+  ReportOptions options;
+  options.three_js_path = WriteFakeThreeJs(d);
+  ReportSummary summary;
+  Result<std::string> html = RenderReportHtml(d, options, &summary);
+  ASSERT_TRUE(html.ok()) << html.status().message();
+  EXPECT_TRUE(summary.view_3d);
+  EXPECT_EQ(summary.view_3d_absent, "");
+  EXPECT_EQ(summary.view_3d_voxels, 1u);  // The fake voxels.ply puts its 10 voxels at one point.
+  EXPECT_EQ(summary.bytes, html->size());
+  EXPECT_NE(html->find("<script id=\"v3-three\">\nvar THREE = {REVISION: 'fake'};"), std::string::npos);
+  EXPECT_NE(html->find("<script id=\"v3-script\">"), std::string::npos);
+  EXPECT_NE(html->find("<canvas id=\"v3-canvas\">"), std::string::npos);
+  EXPECT_NE(html->find("\"count\":1,"), std::string::npos);
+  EXPECT_NE(html->find("<a href=\"#3d\">3D view</a>"), std::string::npos);
+  EXPECT_EQ(html.value(), RenderReportHtml(d, options).value());
+}
+
+// --no-3d (ReportOptions::view_3d = false, config report.view_3d: false) leaves the view, its scripts and its
+// link out; without three.js the section is one line naming the path.
+TEST(Report, No3dLeavesTheViewOutAndMissingThreeJsIsOneLine) {
+  testing::ScratchDir dir("report_no3d");
+  const std::string d = dir.path().string();
+  WriteFakeOutdir(d, /*with_semantic=*/false);
+  ReportOptions options;
+  options.view_3d = false;
+  Result<std::string> html = RenderReportHtml(d, options);
+  ASSERT_TRUE(html.ok());
+  EXPECT_EQ(html->find("<script"), std::string::npos);
+  EXPECT_EQ(html->find("3D view"), std::string::npos);
+  EXPECT_EQ(html->find("v3-"), std::string::npos);
+  ASSERT_EQ(testing::Shell(std::string(SEMVOX_BINARY) + " report " + d + " --no-3d -q"), 0);
+  EXPECT_EQ(testing::ReadText(d + "/report.html").find("<script"), std::string::npos);
+  testing::WriteText(d + "/no3d.yaml", "report:\n  view_3d: false\n");
+  ASSERT_EQ(testing::Shell(std::string(SEMVOX_BINARY) + " report " + d + " --config " + d + "/no3d.yaml -q"), 0);
+  EXPECT_EQ(testing::ReadText(d + "/report.html").find("<script"), std::string::npos);
+  testing::WriteText(d + "/bad.yaml", "report:\n  view_3d_max_voxels: 10\n");
+  EXPECT_EQ(testing::Shell(std::string(SEMVOX_BINARY) + " report " + d + " --config " + d + "/bad.yaml -q 2> " + d + "/err.txt"), 2);
+  EXPECT_NE(testing::ReadText(d + "/err.txt").find("report.view_3d_max_voxels"), std::string::npos) << testing::ReadText(d + "/err.txt");
+  options.view_3d = true;
+  options.three_js_path = d + "/no/three.min.js";
+  ReportSummary summary;
+  html = RenderReportHtml(d, options, &summary);
+  ASSERT_TRUE(html.ok());
+  EXPECT_FALSE(summary.view_3d);
+  const std::string line = "<p class=\"na\" id=\"view3d-absent\">3D view not available: three.js not found at " + d +
+                           "/no/three.min.js (install the Debian package libjs-three, or set SEMVOX_THREE_JS to a three.min.js)</p>";
+  EXPECT_NE(html->find(line), std::string::npos);
+  EXPECT_EQ(html->find("<script"), std::string::npos);
+}
+
+// A damaged or empty voxels.ply is no error: the class histogram falls back to summary.json and says why, the 3D
+// view is one line naming the file.
+TEST(Report, DamagedVoxelsPlyStillGivesAReport) {
+  testing::ScratchDir dir("report_damaged");
+  const std::string d = dir.path().string();
+  WriteFakeOutdir(d, /*with_semantic=*/true);
+  ReportOptions options;
+  options.three_js_path = WriteFakeThreeJs(d);
+  testing::WriteText(d + "/voxels.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\nend_header\nxx");
+  ReportSummary summary;
+  Result<std::string> html = RenderReportHtml(d, options, &summary);
+  ASSERT_TRUE(html.ok()) << html.status().message();
+  EXPECT_NE(html->find("from summary.json (voxels.ply is damaged)"), std::string::npos);
+  EXPECT_NE(html->find("wall</td><td>99</td>"), std::string::npos);
+  EXPECT_NE(summary.view_3d_absent.find(d + "/voxels.ply: "), std::string::npos) << summary.view_3d_absent;
+  EXPECT_NE(html->find("id=\"view3d-absent\">3D view not available: " + d + "/voxels.ply: "), std::string::npos);
+  EXPECT_EQ(html->find("<canvas"), std::string::npos);
+  PlyWriter empty;
+  empty.AddElement("vertex", 0);
+  for (const char* p : {"x", "y", "z"}) empty.AddProperty(p, PlyType::kFloat32, {});
+  empty.AddProperty("label", PlyType::kUInt16, {});
+  ASSERT_TRUE(empty.Write(d + "/voxels.ply").ok());
+  html = RenderReportHtml(d, options);
+  ASSERT_TRUE(html.ok());
+  EXPECT_NE(html->find("3D view not available: voxels.ply holds no occupied voxels"), std::string::npos);
 }
 
 // `semvox report` on the fake OUTDIR, loaded in headless Chromium: the DOM holds the three room rows and the
 // screenshot shows the room table's body as a region of its background colour, 3 rows of 22 px high.
 TEST(Report, HeadlessChromiumRendersTheRoomTable) {
-  const std::string chromium = FindChromium();
+  const std::string chromium = testing::FindChromium();
   if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (Debian package chromium; scripts/test.sh installs it)";
   testing::ScratchDir dir("report_chromium");
   const std::string d = dir.path().string();
   WriteFakeOutdir(d, /*with_semantic=*/false);
-  ASSERT_EQ(Shell(std::string(SEMVOX_BINARY) + " report " + d + " -q"), 0);
+  ASSERT_EQ(testing::Shell(std::string(SEMVOX_BINARY) + " report " + d + " -q"), 0);
   const std::string page = "file://" + d + "/report.html";
   ExpectSelfContained(testing::ReadText(d + "/report.html"));
   const std::string common = chromium + " --headless --no-sandbox --disable-gpu --no-first-run --disable-extensions "
                              "--hide-scrollbars --force-device-scale-factor=1 --user-data-dir=" + d + "/profile ";
-  ASSERT_EQ(Shell(common + "--dump-dom " + page + " > " + d + "/dom.html 2> " + d + "/chromium1.log"), 0)
+  ASSERT_EQ(testing::Shell(common + "--dump-dom " + page + " > " + d + "/dom.html 2> " + d + "/chromium1.log"), 0)
       << testing::ReadText(d + "/chromium1.log");
   const std::string dom = testing::ReadText(d + "/dom.html");
   EXPECT_EQ(Occurrences(dom, "<tr data-room="), 3u);
   for (const char* type : {">bedroom<", ">kitchen<", ">unknown<", ">14.25<", ">12.50<", ">3.75<"})
     EXPECT_NE(dom.find(type), std::string::npos) << type;
   const std::string shot = d + "/shot.png";
-  ASSERT_EQ(Shell(common + "--window-size=1200,2400 --screenshot=" + shot + " " + page + " > " + d + "/chromium2.log 2>&1"), 0)
+  ASSERT_EQ(testing::Shell(common + "--window-size=1200,2400 --screenshot=" + shot + " " + page + " > " + d + "/chromium2.log 2>&1"), 0)
       << testing::ReadText(d + "/chromium2.log");
   Result<ImageRgb8> img = ReadImageRgb8(shot);
   ASSERT_TRUE(img.ok()) << img.status().message();
