@@ -130,6 +130,10 @@ struct TrainArgs {
   // the real-scans work: palettes, textures, simulated clouds) or mixed (alternating, first flat), so that one
   // set of weights serves clean meshes and real-looking scans.
   std::string voxel_crf_style = "mixed";
+  // When >= 0, w_appearance (the per-view evidence) is held at this value instead of learned: the weight
+  // the flat-trained model gives it, so that clean meshes keep their labels while the other weights (the
+  // segment term among them) learn on mixed scans.
+  double voxel_crf_appearance_weight = -1;
   std::string style = "flat";               // Training views: flat (the shipped models) or randomised (domain randomisation).
 };
 

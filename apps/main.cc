@@ -98,6 +98,9 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--voxel-crf-style", train.voxel_crf_style,
                         "scans the Voxel-CRF learns on: flat, randomised, or mixed (alternating seeds; the default)")
       ->check(CLI::IsMember({"flat", "randomised", "randomized", "mixed"}));
+  train_cmd->add_option("--voxel-crf-appearance-weight", train.voxel_crf_appearance_weight,
+                        "hold the Voxel-CRF's per-view evidence weight at this value instead of learning it (default: learned)")
+      ->check(CLI::NonNegativeNumber);
   train_cmd->add_option("--style", train.style, "training views: flat (the generator's own colours; the shipped models) or randomised (palettes, textures, lighting, simulated clouds); validation is scored in both")
       ->check(CLI::IsMember({"randomised", "randomized", "flat"}));
   train_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");

@@ -111,6 +111,10 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
   if (!before.ok()) return before.status();
   VoxelCrfLearningOptions lo;
   lo.epochs = args.voxel_crf_epochs;
+  if (args.voxel_crf_appearance_weight >= 0) {
+    model.w[kWAppearance] = args.voxel_crf_appearance_weight;
+    lo.frozen[kWAppearance] = true;
+  }
   VoxelCrfLearningSummary summary;
   Result<std::array<double, kNumVoxelCrfWeights>> w = LearnVoxelCrfWeights(examples, model.w, lo, &summary);
   if (!w.ok()) return w.status();
@@ -121,6 +125,7 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
   nlohmann::ordered_json report;
   report["seeds"] = args.voxel_crf_seeds;
   report["style"] = args.voxel_crf_style;
+  report["appearance_weight_held"] = args.voxel_crf_appearance_weight >= 0;
   report["epochs"] = lo.epochs;
   report["learning_rate"] = lo.learning_rate;
   report["regularization"] = lo.regularization;

@@ -60,6 +60,7 @@ Result<std::array<double, kNumVoxelCrfWeights>> LearnVoxelCrfWeights(const std::
       hinge_sum += std::max(0.0, loss + margin / n);
       const double eta = options.learning_rate / std::sqrt(1.0 + t);
       for (int i = 0; i < kNumVoxelCrfWeights; ++i) {
+        if (options.frozen[size_t(i)]) continue;
         const double g = options.regularization * w[size_t(i)] + (f_gt[size_t(i)] - f_hat[size_t(i)]) / n;
         w[size_t(i)] -= eta * g;
         if (i != kWOccupiedBias) w[size_t(i)] = std::max(0.0, w[size_t(i)]);

@@ -28,6 +28,7 @@ struct VoxelCrfLearningOptions {
   double learning_rate = 0.5;     // eta_0; step t uses eta_0 / sqrt(1 + t). > 0.
   double regularization = 1e-3;   // lambda. >= 0.
   uint64_t seed = 0;              // Order of the examples in each epoch.
+  std::array<bool, kNumVoxelCrfWeights> frozen{};  // Weights held at their initial value (not learned).
   AlphaExpansionOptions solver;
   bool Check(std::string* error) const;
 };

@@ -122,8 +122,19 @@ TEST(VoxelCrfLearning, StructuredSvmLowersTheTrainingError) {
   EXPECT_GT(before, 0.7);
   EXPECT_LT(after, 0.05);
   EXPECT_GT((*w)[kWAppearance], 0.0);
-  for (int i = 0; i < kNumVoxelCrfWeights; ++i)
-    if (i != kWOccupiedBias) EXPECT_GE((*w)[size_t(i)], 0.0) << "weight " << i;
+  for (int i = 0; i < kNumVoxelCrfWeights; ++i) {
+    if (i != kWOccupiedBias) {
+      EXPECT_GE((*w)[size_t(i)], 0.0) << "weight " << i;
+    }
+  }
+  // A frozen weight keeps its initial value while the others still learn (`semvox train
+  // --voxel-crf-appearance-weight`): here the appearance weight held at 0 leaves the labels to depth alone.
+  options.frozen[kWAppearance] = true;
+  Result<std::array<double, kNumVoxelCrfWeights>> held = LearnVoxelCrfWeights(examples, w0, options, &summary);
+  ASSERT_TRUE(held.ok()) << held.status().message();
+  EXPECT_EQ((*held)[kWAppearance], 0.0);
+  EXPECT_NE((*held)[kWDepthOccupied], w0[kWDepthOccupied]);
+  EXPECT_GT(error_of(*held), after + 0.2);  // Without appearance the classes cannot be told apart.
 }
 
 // ---- Analytic scenes ----
