@@ -157,6 +157,9 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("render", render, min_color_stddev, 0, 255, "drop views with a smaller colour spread (too homogeneous), 0-255"));
     f.push_back(SEMVOX_DOUBLE_FIELD("render", render, min_hit_fraction, 0, 1, "drop views where fewer pixels hit the scene"));
     f.push_back(SEMVOX_INT_FIELD("render", render, thumbnail_width, 16, 8192, "width of --save-views thumbnails, pixels"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, cloud_cell_m, 0, 1, "point clouds: points of each cube of this side are drawn as one disc at their centroid (0: one disc per point), metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, cloud_radius_factor, 1e-3, 10, "point clouds: disc radius as a multiple of the mean distance to the 8 nearest discs"));
+    f.push_back(SEMVOX_BOOL_FIELD("render", render, cloud_squares, "point clouds: draw each disc as the square around it (two triangles, about 3 x faster to trace than a disc)"));
     // ---- semantic: classification views and the Voxel-CRF (apps/semantic_stage.h, voxelcrf/) ----
     f.push_back(SEMVOX_BOOL_FIELD("semantic", semantic, enabled, "run the per-view classifiers and the Voxel-CRF (voxels.ply, map.ot, semantic top view)"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic, classify_yaw_step_deg, 1, 360, "yaw between candidate classification views of a viewpoint, degrees; divides 360"));

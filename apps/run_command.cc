@@ -136,7 +136,7 @@ Status RunPipeline(const RunArgs& args) {
   t0 = Clock::now();
   c0 = CpuSeconds();
   progress.Begin("render");
-  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
+  Result<ViewRenderer> renderer = ViewRenderer::Create(scene, config.render.Raycaster());
   if (!renderer.ok()) return renderer.status();
   ViewsStageSummary views;
   views.seconds_build = Seconds(t0);

@@ -123,6 +123,9 @@ bool ViewsOptions::Check(std::string* error) const {
     os << "min_hit_fraction = " << min_hit_fraction << ". Violated constraint: 0 <= min_hit_fraction <= 1";
   else if (thumbnail_width < 16 || thumbnail_width > 8192)
     os << "thumbnail_width = " << thumbnail_width << ". Violated constraint: 16 <= thumbnail_width <= 8192";
+  else if (!in(cloud_cell_m, 0, 1)) os << "cloud_cell_m = " << cloud_cell_m << ". Violated constraint: 0 <= cloud_cell_m <= 1";
+  else if (!(cloud_radius_factor > 0 && cloud_radius_factor <= 10))
+    os << "cloud_radius_factor = " << cloud_radius_factor << ". Violated constraint: 0 < cloud_radius_factor <= 10";
   if (os.str().empty()) return true;
   if (error) *error = os.str();
   return false;

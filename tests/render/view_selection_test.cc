@@ -106,6 +106,7 @@ TEST(SelectViewsBySetCover, RedundantCandidatesAreNotTaken) {
   for (uint32_t e = 0; e < 100; ++e) seen[0].push_back(e), seen[1].push_back(e);
   for (uint32_t e = 0; e < 50; ++e) seen[2].push_back(e);
   ViewSelectionOptions o;
+  o.min_views_per_voxel = 2;
   o.min_gain_fraction = 0;
   const ViewSelection sel = SelectViewsBySetCover(seen, 100, o);
   EXPECT_EQ(sel.chosen, (std::vector<int>{0, 1}));
