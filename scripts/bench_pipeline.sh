@@ -34,7 +34,7 @@ CONFIG=()
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); outputs in $OUT"
 
 for seed in 104 106; do
-  [ -f "$OUT/gen$seed/gt.json" ] || "$SEMVOX" generate --seed "$seed" --cloud -o "$OUT/gen$seed" >/dev/null
+  [ -f "$OUT/gen$seed/gt.json" ] || "$SEMVOX" generate --seed "$seed" --cloud -o "$OUT/gen$seed" >/dev/null 2>&1
 done
 
 # run NAME INPUT [GT_DIR|boxes:GT.json]
