@@ -146,7 +146,10 @@ Status RunPipeline(const RunArgs& args) {
   std::unique_ptr<SupportClutterStage> support;
   const std::string models_dir = args.models_dir.empty() ? DefaultModelsDir() : args.models_dir;
   if (config.semantic.enabled) {
-    Result<std::unique_ptr<SemanticStage>> st = SemanticStage::Create(map, renderer.value(), config.semantic, models_dir);
+    SemanticStageOptions semantic_options = config.semantic;
+    if (semantic_options.view_selection == ClassifyViewSelection::kAuto)
+      semantic_options.view_selection = scene.is_mesh() ? ClassifyViewSelection::kCover : ClassifyViewSelection::kAll;
+    Result<std::unique_ptr<SemanticStage>> st = SemanticStage::Create(map, renderer.value(), semantic_options, models_dir);
     if (!st.ok()) return st.status();
     semantic = std::move(st).value();
     if (args.onnx) semantic->SetOnnxModels(args.onnx.get());
@@ -335,7 +338,10 @@ Status RunPipeline(const RunArgs& args) {
   const std::string text = s.dump(2) + "\n";
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(args.outdir) / "summary.json").string(), text));
   // The self-contained HTML report of everything above (src/report).
-  SEMVOX_RETURN_IF_ERROR(WriteReport(args.outdir));
+  ReportSummary report;
+  SEMVOX_RETURN_IF_ERROR(WriteReport(args.outdir, config.report, &report));
+  // A run without the semantic stage has no voxels.ply: the page says so, no warning needed.
+  if (!report.view_3d_absent.empty() && semantic) SEMVOX_WARN("report.html: 3D view not available: " << report.view_3d_absent);
   if (args.json) std::cout << text;
   SEMVOX_INFO("outputs in " << args.outdir << (semantic ? " (report.html, voxels.ply, map.ot, semantic_topview.png, rooms.geojson, occupancy.pgm/.yaml, map.bt, summary.json, ...)"
                                                         : " (report.html, occupancy.pgm/.yaml, rooms.geojson, map.bt, summary.json)"));

@@ -28,11 +28,14 @@ using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
 }  // namespace
 
-const char* ClassifyViewSelectionName(ClassifyViewSelection s) { return s == ClassifyViewSelection::kAll ? "all" : "cover"; }
+const char* ClassifyViewSelectionName(ClassifyViewSelection s) {
+  return s == ClassifyViewSelection::kAll ? "all" : s == ClassifyViewSelection::kCover ? "cover" : "auto";
+}
 
 bool ParseClassifyViewSelection(const std::string& name, ClassifyViewSelection* s) {
   if (name == "all") *s = ClassifyViewSelection::kAll;
   else if (name == "cover") *s = ClassifyViewSelection::kCover;
+  else if (name == "auto") *s = ClassifyViewSelection::kAuto;
   else return false;
   return true;
 }
