@@ -157,9 +157,28 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("render", render, min_color_stddev, 0, 255, "drop views with a smaller colour spread (too homogeneous), 0-255"));
     f.push_back(SEMVOX_DOUBLE_FIELD("render", render, min_hit_fraction, 0, 1, "drop views where fewer pixels hit the scene"));
     f.push_back(SEMVOX_INT_FIELD("render", render, thumbnail_width, 16, 8192, "width of --save-views thumbnails, pixels"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, cloud_cell_m, 0, 1, "point clouds: points of each cube of this side are drawn as one disc at their centroid (0: one disc per point), metres"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("render", render, cloud_radius_factor, 1e-3, 10, "point clouds: disc radius as a multiple of the mean distance to the 8 nearest discs"));
+    f.push_back(SEMVOX_BOOL_FIELD("render", render, cloud_squares, "point clouds: draw each disc as the square around it (two triangles, about 3 x faster to trace than a disc)"));
     // ---- semantic: classification views and the Voxel-CRF (apps/semantic_stage.h, voxelcrf/) ----
     f.push_back(SEMVOX_BOOL_FIELD("semantic", semantic, enabled, "run the per-view classifiers and the Voxel-CRF (voxels.ply, map.ot, semantic top view)"));
-    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic, classify_yaw_step_deg, 1, 360, "yaw between classification views of a viewpoint, degrees; divides 360"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic, classify_yaw_step_deg, 1, 360, "yaw between candidate classification views of a viewpoint, degrees; divides 360"));
+    {
+      Field sel;
+      sel.section = "semantic";
+      sel.key = "view_selection";
+      sel.doc = "classification views: cover (the fewest candidates that see each surface voxel min_views_per_voxel times, greedy set cover), all, or auto (cover for meshes, all for point clouds)";
+      sel.choices = {"auto", "cover", "all"};
+      sel.get_str = [](const PipelineConfig& c) { return std::string(ClassifyViewSelectionName(c.semantic.view_selection)); };
+      sel.set_str = [](PipelineConfig& c, const std::string& v) { ParseClassifyViewSelection(v, &c.semantic.view_selection); };
+      f.push_back(sel);
+    }
+    f.push_back(SEMVOX_INT_FIELD("semantic", semantic.selection, min_views_per_voxel, 1, 100, "cover: chosen views that should see each surface voxel (k)"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.selection, max_incidence_deg, 1, 90, "cover: a view sees a voxel only when its ray meets the surface at most this far from the normal, degrees"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.selection, min_gain_fraction, 0, 0.999999, "cover: stop when the best further view meets less than this fraction of the total demand"));
+    f.push_back(SEMVOX_INT_FIELD("semantic", semantic.selection, visibility_downscale, 1, 16, "cover: candidates are traced at 1/this of the classification resolution"));
+    f.push_back(SEMVOX_INT_FIELD("semantic", semantic, classify_width, 16, 4096, "classification view width, pixels (the shipped classifiers are trained at 320)"));
+    f.push_back(SEMVOX_INT_FIELD("semantic", semantic, classify_height, 16, 4096, "classification view height, pixels (trained at 240)"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.evidence, depth_sigma_voxels, 0.01, 100, "sigma of the depth term f_s, voxel sizes"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.evidence, completion_band_m, 0, 5, "unknown voxels this close to an occupied voxel can be completed, metres"));
     f.push_back(SEMVOX_INT_FIELD("semantic", semantic.evidence, interior_margin_cells, 0, 100, "columns this close to a free column count as inside, cells"));

@@ -129,7 +129,7 @@ Status RunRender(const RenderArgs& args) {
 
   Result<Scene> scene = LoadScene(args.input, config.load);
   if (!scene.ok()) return scene.status();
-  Result<ViewRenderer> renderer = ViewRenderer::Create(scene.value());
+  Result<ViewRenderer> renderer = ViewRenderer::Create(scene.value(), config.render.Raycaster());
   if (!renderer.ok()) return renderer.status();
   const ViewsOptions& vo = config.render;
   ViewSet set;

@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <iostream>
 
+#include <sys/resource.h>
+
 #include "apps/commands.h"
 #include "apps/onnx_stage.h"
 #include "apps/room_types_stage.h"
@@ -30,6 +32,12 @@ namespace fs = std::filesystem;
 namespace {
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
+// CPU seconds (user + system) of all threads of this process so far.
+double CpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 // An output directory inside the input's own directory tree is fine; the input file itself must not be
 // overwritten by an output.
@@ -44,6 +52,7 @@ Status CheckOutputNotInput(const std::string& input, const std::string& outdir) 
 
 Status RunPipeline(const RunArgs& args) {
   const auto t_all = Clock::now();
+  const double c_all = CpuSeconds();
   PipelineConfig config;
   if (!args.config_path.empty()) SEMVOX_RETURN_IF_ERROR(LoadConfigFile(args.config_path, &config));
   if (!args.up.empty()) config.load.up = args.up == "y" ? UpAxis::kY : args.up == "z" ? UpAxis::kZ : UpAxis::kAuto;
@@ -55,8 +64,12 @@ Status RunPipeline(const RunArgs& args) {
   SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(args.outdir));
 
   nlohmann::ordered_json timing;
+  // CPU seconds per stage beside the wall seconds: cpu / wall near the core count means the stage uses them all.
+  nlohmann::ordered_json cpu_timing;
+  double c0 = 0;
   ProgressReporter progress(GetLogLevel() > LogLevel::kInfo ? ProgressMode::kQuiet : ProgressMode::kAuto);
   auto t0 = Clock::now();
+  c0 = CpuSeconds();
   progress.Begin("load");
   Result<Scene> scene_or = LoadScene(args.input, config.load);
   if (!scene_or.ok()) return scene_or.status();
@@ -96,18 +109,22 @@ Status RunPipeline(const RunArgs& args) {
   // Heights (floor, ceiling, camera) in the input frame: z of the canonical point above the origin.
   auto input_z = [&](double z) { return frame_applied ? (input_from_world * Eigen::Vector3d(0, 0, z)).z() : z; };
   timing["load"] = Seconds(t0);
+  cpu_timing["load"] = CpuSeconds() - c0;
   progress.End();
   SEMVOX_INFO("loaded " << args.input << ": "
                         << (scene.is_mesh() ? std::to_string(scene.mesh.faces.size()) + " triangles"
                                             : std::to_string(scene.cloud.points.size()) + " points"));
 
   t0 = Clock::now();
+
+  c0 = CpuSeconds();
   progress.Begin("voxelize");
   Result<VoxelMap> map_or = Voxelize(scene, config.voxelize, progress.Callback());
   if (!map_or.ok()) return map_or.status();
   progress.End();
   const VoxelMap& map = map_or.value();
   timing["voxelize"] = Seconds(t0);
+  cpu_timing["voxelize"] = CpuSeconds() - c0;
   timing["voxelize_surface"] = map.seconds_surface;
   timing["voxelize_free_space"] = map.seconds_free_space;
   const auto counts = map.grid.CountStates();
@@ -117,8 +134,9 @@ Status RunPipeline(const RunArgs& args) {
 
   // ---- render stage (issue 4): viewpoints and virtual views -> views.json [, views/*.png] ----
   t0 = Clock::now();
+  c0 = CpuSeconds();
   progress.Begin("render");
-  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
+  Result<ViewRenderer> renderer = ViewRenderer::Create(scene, config.render.Raycaster());
   if (!renderer.ok()) return renderer.status();
   ViewsStageSummary views;
   views.seconds_build = Seconds(t0);
@@ -128,7 +146,10 @@ Status RunPipeline(const RunArgs& args) {
   std::unique_ptr<SupportClutterStage> support;
   const std::string models_dir = args.models_dir.empty() ? DefaultModelsDir() : args.models_dir;
   if (config.semantic.enabled) {
-    Result<std::unique_ptr<SemanticStage>> st = SemanticStage::Create(map, renderer.value(), config.semantic, models_dir);
+    SemanticStageOptions semantic_options = config.semantic;
+    if (semantic_options.view_selection == ClassifyViewSelection::kAuto)
+      semantic_options.view_selection = scene.is_mesh() ? ClassifyViewSelection::kCover : ClassifyViewSelection::kAll;
+    Result<std::unique_ptr<SemanticStage>> st = SemanticStage::Create(map, renderer.value(), semantic_options, models_dir);
     if (!st.ok()) return st.status();
     semantic = std::move(st).value();
     if (args.onnx) semantic->SetOnnxModels(args.onnx.get());
@@ -144,20 +165,25 @@ Status RunPipeline(const RunArgs& args) {
   SEMVOX_RETURN_IF_ERROR(RunViewsStage(renderer.value(), map, config.render, args.outdir, args.save_views, &views,
                                        semantic ? semantic->DepthSink() : ViewSink{}, input_from_world));
   timing["render"] = Seconds(t0);
+  cpu_timing["render"] = CpuSeconds() - c0;
   timing["render_build"] = views.seconds_build;
   timing["render_trace"] = views.seconds_render;
   progress.End();
   // ---- semantic stage (issue 6): classification views, Voxel-CRF ----
   if (semantic) {
     t0 = Clock::now();
+    c0 = CpuSeconds();
     progress.Begin("classify");
     SEMVOX_RETURN_IF_ERROR(semantic->ClassifyViews(views.viewpoints));
     timing["classify"] = Seconds(t0);
+    cpu_timing["classify"] = CpuSeconds() - c0;
     progress.End();
     t0 = Clock::now();
+    c0 = CpuSeconds();
     progress.Begin("voxel-crf");
     SEMVOX_RETURN_IF_ERROR(semantic->Solve());
     timing["voxel_crf"] = Seconds(t0);
+    cpu_timing["voxel_crf"] = CpuSeconds() - c0;
     progress.End();
   }
   // The occupancy the later stages use: the CRF's refined map when it ran.
@@ -165,6 +191,8 @@ Status RunPipeline(const RunArgs& args) {
   // ---- end render stage ----
 
   t0 = Clock::now();
+
+  c0 = CpuSeconds();
   const OccupancyMap occ = ComputeOccupancy(final_grid, map.floor_z, config.occupancy);
   // The image stays on the canonical grid; its origin is the lower-left corner's pose in the input frame.
   OccupancyMap occ_out = occ;
@@ -177,12 +205,14 @@ Status RunPipeline(const RunArgs& args) {
   }
   SEMVOX_RETURN_IF_ERROR(WriteOccupancyMap(occ_out, args.outdir, "occupancy"));
   timing["occupancy"] = Seconds(t0);
+  cpu_timing["occupancy"] = CpuSeconds() - c0;
   // ---- rooms stage (src/rooms): floor plan with door openings, geometric room segmentation, and
   // rooms.png / rooms.geojson / rooms.svg on the occupancy grid. Room types stay "unknown" until a
   // room-type classifier exists.
   nlohmann::ordered_json rooms_summary;
   {
     t0 = Clock::now();
+    c0 = CpuSeconds();
     progress.Begin("rooms");
     const FloorPlan plan = FloorPlanFromVoxels(final_grid, map.floor_z, map.ceiling_z, occ, config.floor_plan);
     const RoomSegmentation rooms = SegmentRooms(plan, config.rooms);
@@ -209,15 +239,18 @@ Status RunPipeline(const RunArgs& args) {
       SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(args.outdir, plan, rooms, false, input_from_world));
     }
     timing["rooms"] = Seconds(t0);
+    cpu_timing["rooms"] = CpuSeconds() - c0;
     progress.End();
     if (semantic) {
       t0 = Clock::now();
+      c0 = CpuSeconds();
       Result<ImageU16> room_ids = ReadImageU16((fs::path(args.outdir) / "rooms.png").string());
       if (!room_ids.ok()) return room_ids.status();
       SEMVOX_RETURN_IF_ERROR(semantic->Write(args.outdir, &room_ids.value(), config.occupancy.band_min_above_floor_m,
                                              config.occupancy.band_max_above_floor_m, occ.image, input_from_world));
       if (support) SEMVOX_RETURN_IF_ERROR(support->Write(args.outdir, final_grid, input_from_world));
       timing["semantic_exports"] = Seconds(t0);
+      cpu_timing["semantic_exports"] = CpuSeconds() - c0;
     }
     rooms_summary = {{"method", RoomSegmentationMethodName(config.rooms.method)},
                      {"rooms", rooms.num_rooms},
@@ -233,8 +266,10 @@ Status RunPipeline(const RunArgs& args) {
   }
   // ---- end rooms stage ----
   t0 = Clock::now();
+  c0 = CpuSeconds();
   SEMVOX_RETURN_IF_ERROR(WriteOctomapBinary(final_grid, (fs::path(args.outdir) / "map.bt").string()));
   timing["octomap"] = Seconds(t0);
+  cpu_timing["octomap"] = CpuSeconds() - c0;
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(args.outdir) / "config_used.yaml").string(), DumpConfig(config)));
 
   const Aabb& box = input_box;
@@ -297,7 +332,9 @@ Status RunPipeline(const RunArgs& args) {
   }
   s["warnings"] = TakeWarnings();
   timing["total"] = Seconds(t_all);
+  cpu_timing["total"] = CpuSeconds() - c_all;
   s["seconds"] = timing;
+  s["cpu_seconds"] = cpu_timing;
   const std::string text = s.dump(2) + "\n";
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(args.outdir) / "summary.json").string(), text));
   // The self-contained HTML report of everything above (src/report).

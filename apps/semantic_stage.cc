@@ -28,7 +28,28 @@ using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
 }  // namespace
 
+const char* ClassifyViewSelectionName(ClassifyViewSelection s) {
+  return s == ClassifyViewSelection::kAll ? "all" : s == ClassifyViewSelection::kCover ? "cover" : "auto";
+}
+
+bool ParseClassifyViewSelection(const std::string& name, ClassifyViewSelection* s) {
+  if (name == "all") *s = ClassifyViewSelection::kAll;
+  else if (name == "cover") *s = ClassifyViewSelection::kCover;
+  else if (name == "auto") *s = ClassifyViewSelection::kAuto;
+  else return false;
+  return true;
+}
+
 bool SemanticStageOptions::Check(std::string* error) const {
+  if (classify_width < 16 || classify_width > 4096) {
+    if (error) *error = "classify_width = " + std::to_string(classify_width) + ". Violated constraint: 16 <= classify_width <= 4096";
+    return false;
+  }
+  if (classify_height < 16 || classify_height > 4096) {
+    if (error) *error = "classify_height = " + std::to_string(classify_height) + ". Violated constraint: 16 <= classify_height <= 4096";
+    return false;
+  }
+  if (!selection.Check(error)) return false;
   if (!(classify_yaw_step_deg >= 1 && classify_yaw_step_deg <= 360) ||
       std::abs(360.0 / classify_yaw_step_deg - std::round(360.0 / classify_yaw_step_deg)) > 1e-9) {
     if (error) *error = "classify_yaw_step_deg = " + std::to_string(classify_yaw_step_deg) + ". Violated constraint: in [1, 360] and divides 360";
@@ -68,6 +89,8 @@ struct SemanticStage::Impl {
   VoxelGrid refined;
   std::vector<ClassifiedViewRoomEvidence> rooms;
   int classification_views = 0, skipped_views = 0;
+  ViewSelection selection;  // Candidates and cover (kCover), or candidates only (kAll).
+  double seconds_selection = 0;
   double seconds_classify = 0, seconds_depth = 0, seconds_solve = 0;
   const OnnxModels* onnx = nullptr;
   std::function<Status(const RenderedView&)> hook;
@@ -139,18 +162,42 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
   Impl& s = *impl_;
   const auto t0 = Clock::now();
   const TrainingViewsOptions tv;
-  const PinholeCamera camera = PinholeCamera::FromHorizontalFov(tv.width, tv.height, tv.horizontal_fov_deg);
+  const PinholeCamera camera = PinholeCamera::FromHorizontalFov(s.options.classify_width, s.options.classify_height, tv.horizontal_fov_deg);
   double z = s.map->floor_z + tv.eye_height_m;
   if (s.map->ceiling_found) z = std::min(z, s.map->ceiling_z - 0.2);
   struct Pose {
     Eigen::Vector3d p;
     double yaw;
   };
+  // Candidates: every viewpoint turned in classify_yaw_step_deg steps.
   std::vector<Pose> poses;
   const int per_position = int(std::lround(360.0 / s.options.classify_yaw_step_deg));
   for (const auto& p : positions)
     for (int k = 0; k < per_position; ++k) poses.push_back({Eigen::Vector3d(p.x(), p.y(), z), k * s.options.classify_yaw_step_deg});
   const RenderOptions render{s.map->grid.resolution(), 100.0};
+  s.selection = ViewSelection{};
+  s.selection.candidates = poses.size();
+  if (s.options.view_selection == ClassifyViewSelection::kCover && !poses.empty()) {
+    // The views that add evidence: candidates the classifier would skip are left out of the cover.
+    const auto ts = Clock::now();
+    std::vector<Eigen::Isometry3d> world_from_camera;
+    for (const Pose& pose : poses) world_from_camera.push_back(WorldFromCameraYawPitch(pose.p, pose.yaw, tv.pitch_deg));
+    const std::vector<uint32_t> surface = SurfaceVoxels(s.map->grid);
+    std::vector<CandidateVisibility> vis =
+        MeasureCandidateVisibility(*s.renderer, s.map->grid, surface, camera, world_from_camera, render, s.options.selection);
+    std::vector<std::vector<uint32_t>> seen(vis.size());
+    for (size_t c = 0; c < vis.size(); ++c)
+      if (vis[c].hit_fraction >= tv.min_hit_fraction && vis[c].mean_depth_m >= tv.min_mean_depth_m) seen[c] = std::move(vis[c].surface_ids);
+    s.selection = SelectViewsBySetCover(seen, surface.size(), s.options.selection);
+    std::vector<Pose> chosen;
+    for (int c : s.selection.chosen) chosen.push_back(poses[size_t(c)]);
+    poses = std::move(chosen);
+    s.seconds_selection = Seconds(ts);
+    SEMVOX_INFO("view selection: " << poses.size() << " of " << s.selection.candidates << " candidate views cover "
+                                   << 100.0 * s.selection.coverage() << "% of " << s.selection.surface_voxels << " surface voxels "
+                                   << s.options.selection.min_views_per_voxel << " times (candidates: "
+                                   << 100.0 * s.selection.coverable() << "%), " << s.seconds_selection << " s");
+  }
   const int K = s.level.num_classes();
   const std::vector<bool> object_classes = RoomObjectClasses(s.level.class_names);
   constexpr size_t kBatch = 4;
@@ -361,6 +408,21 @@ nlohmann::ordered_json SemanticStage::Summary() const {
   nlohmann::ordered_json j;
   j["model"] = s.model_trained ? "models/voxel_crf.txt" : "untrained defaults";
   j["classification_views"] = s.classification_views;
+  nlohmann::ordered_json sel = {{"method", ClassifyViewSelectionName(s.options.view_selection)},
+                                 {"candidates", s.selection.candidates},
+                                 {"width", s.options.classify_width},
+                                 {"height", s.options.classify_height}};
+  if (s.options.view_selection == ClassifyViewSelection::kCover) {
+    const auto share = [&](size_t n) { return s.selection.surface_voxels ? double(n) / double(s.selection.surface_voxels) : 0.0; };
+    sel["chosen"] = s.selection.chosen.size();
+    sel["min_views_per_voxel"] = s.options.selection.min_views_per_voxel;
+    sel["max_incidence_deg"] = s.options.selection.max_incidence_deg;
+    sel["surface_voxels"] = s.selection.surface_voxels;
+    sel["coverage"] = s.selection.coverage();            // Seen >= k times by the chosen views.
+    sel["coverage_candidates"] = s.selection.coverable();  // ... by all candidates.
+    sel["seen_once"] = share(s.selection.seen_voxels);
+  }
+  j["view_selection"] = sel;
   j["skipped_classification_views"] = s.skipped_views;
   j["nodes"] = {{"total", s.nodes.size()},
                 {"occupied", s.nodes.count_state(VoxelState::kOccupied)},
@@ -384,7 +446,7 @@ nlohmann::ordered_json SemanticStage::Summary() const {
   for (const auto& [label, count] : s.semantic.LabelCounts())
     hist[label > 0 && label < kNumNyu40 ? Nyu40Labels()[size_t(label)].name : std::to_string(label)] = count;
   j["labels"] = hist;
-  j["seconds"] = {{"depth_evidence", s.seconds_depth}, {"classify", s.seconds_classify}, {"crf", s.result.seconds},
+  j["seconds"] = {{"depth_evidence", s.seconds_depth}, {"view_selection", s.seconds_selection}, {"classify", s.seconds_classify}, {"crf", s.result.seconds},
                   {"crf_planes", s.result.seconds_planes}, {"crf_ray_starts", s.result.seconds_ray_starts},
                   {"crf_confidence", s.result.seconds_confidence}, {"object_segments", s.seconds_segments},
                   {"solve_total", s.seconds_solve}};

@@ -22,8 +22,10 @@ struct Raycaster::Impl {
   std::vector<float> vertex_data;
   std::vector<Eigen::Vector3i> faces;
   std::vector<float> normal_data;  // Clouds: x,y,z per point, plus padding.
-  std::vector<float> radii;        // Clouds: disc radius per point.
+  std::vector<float> radii;        // Clouds: disc radius per disc.
+  std::vector<int32_t> disc_point; // Clouds with merged discs: the point index each disc reports; empty: disc = point.
   size_t num_primitives = 0;
+  bool squares = false;            // Clouds drawn as two triangles per disc (vertex_data: x,y,z corners).
 
   Impl() = default;
   Impl(const Impl&) = delete;

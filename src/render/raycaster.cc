@@ -2,6 +2,10 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <limits>
 
 #include <cmath>
 #include <cstring>
@@ -74,11 +78,11 @@ Status CommitScene(RTCGeometry geom, bool robust, Raycaster::Impl* impl, const s
   return Status::Ok();
 }
 
-RayHit ToHit(const RTCRayHit16& p, int lane) {
+RayHit ToHit(const RTCRayHit16& p, int lane, const std::vector<int32_t>& disc_point) {
   RayHit h;
   if (p.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) return h;
   h.distance = p.ray.tfar[lane];
-  h.primitive = int32_t(p.hit.primID[lane]);
+  h.primitive = disc_point.empty() ? int32_t(p.hit.primID[lane]) : disc_point[p.hit.primID[lane]];
   h.u = p.hit.u[lane];
   h.v = p.hit.v[lane];
   Eigen::Vector3f n(p.hit.Ng_x[lane], p.hit.Ng_y[lane], p.hit.Ng_z[lane]);
@@ -88,6 +92,58 @@ RayHit ToHit(const RTCRayHit16& p, int lane) {
   if (n.dot(d) > 0) n = -n;
   h.normal = n;
   return h;
+}
+
+// The points of each occupied cube of side `cell`, merged: centroid, mean normal (when the cloud has normals)
+// and the point nearest the centroid (ties: the lower index). Cells in key order, so the result depends on
+// the points alone.
+struct MergedCloud {
+  PointCloud cloud;                    // points (and normals) of the merged discs.
+  std::vector<int32_t> representative; // Per disc, a point of `cloud`'s source.
+};
+
+MergedCloud MergeCloudCells(const PointCloud& cloud, double cell) {
+  const size_t n = cloud.points.size();
+  const bool normals = cloud.normals.size() == n;
+  // Cell coordinates in 21 bits each (+-1 M cells: +-50 km at 5 cm), packed into one sortable key.
+  constexpr int64_t kBias = int64_t(1) << 20, kMask = (int64_t(1) << 21) - 1;
+  std::vector<std::pair<uint64_t, uint32_t>> keyed(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      uint64_t key = 0;
+      for (int a = 0; a < 3; ++a) {
+        const int64_t c = std::clamp<int64_t>(int64_t(std::floor(double(cloud.points[i][a]) / cell)) + kBias, 0, kMask);
+        key = (key << 21) | uint64_t(c);
+      }
+      keyed[i] = {key, uint32_t(i)};
+    }
+  });
+  tbb::parallel_sort(keyed.begin(), keyed.end());  // Pairs are distinct: the order is unique.
+  MergedCloud m;
+  for (size_t b = 0; b < n;) {
+    size_t e = b;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero(), nsum = Eigen::Vector3d::Zero();
+    for (; e < n && keyed[e].first == keyed[b].first; ++e) {
+      sum += cloud.points[keyed[e].second].cast<double>();
+      if (normals) {
+        Eigen::Vector3d v = cloud.normals[keyed[e].second].cast<double>();
+        if (nsum.dot(v) < 0) v = -v;  // Normals of one surface may point either way.
+        nsum += v;
+      }
+    }
+    const Eigen::Vector3d centroid = sum / double(e - b);
+    uint32_t best = keyed[b].second;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (size_t j = b; j < e; ++j) {
+      const double d = (cloud.points[keyed[j].second].cast<double>() - centroid).squaredNorm();
+      if (d < best_d || (d == best_d && keyed[j].second < best)) best = keyed[j].second, best_d = d;
+    }
+    m.cloud.points.push_back(centroid.cast<float>());
+    if (normals) m.cloud.normals.push_back(nsum.norm() > 0 ? Eigen::Vector3f(nsum.normalized().cast<float>()) : cloud.normals[best]);
+    m.representative.push_back(int32_t(best));
+    b = e;
+  }
+  return m;
 }
 
 }  // namespace
@@ -103,6 +159,8 @@ bool RaycasterOptions::Check(std::string* error) const {
     os << "point_radius_factor = " << point_radius_factor << ". Violated constraint: point_radius_factor > 0";
   else if (spacing_neighbors < 3 || spacing_neighbors > 100)
     os << "spacing_neighbors = " << spacing_neighbors << ". Violated constraint: 3 <= spacing_neighbors <= 100";
+  else if (!(cloud_cell_m >= 0 && cloud_cell_m <= 1))
+    os << "cloud_cell_m = " << cloud_cell_m << ". Violated constraint: 0 <= cloud_cell_m <= 1";
   if (os.str().empty()) return true;
   if (error) *error = os.str();
   return false;
@@ -116,6 +174,7 @@ Raycaster::~Raycaster() = default;
 bool Raycaster::is_cloud() const { return impl_->is_cloud; }
 size_t Raycaster::num_primitives() const { return impl_->num_primitives; }
 const std::vector<float>& Raycaster::point_radii() const { return impl_->radii; }
+const std::vector<int32_t>& Raycaster::disc_points() const { return impl_->disc_point; }
 
 Result<Raycaster> Raycaster::FromMesh(const Mesh& mesh, const RaycasterOptions& options) {
   std::string error;
@@ -158,19 +217,30 @@ Result<Raycaster> Raycaster::FromCloud(const PointCloud& cloud, const RaycasterO
   const size_t n = cloud.points.size();
   if (n < 3) return Status::InvalidInput("point cloud has " + std::to_string(n) + " points; at least 3 are needed to render it");
   if (!SharedEmbreeDevice()) return EmbreeFailure("rtcNewDevice");
-  const CloudGeometry local = EstimateCloudGeometry(cloud, options.spacing_neighbors);
+  for (size_t i = 0; i < n; ++i)
+    if (!cloud.points[i].allFinite())
+      return Status::InvalidInput("cloud point " + std::to_string(i) + " is not finite (hint: load through LoadScene, which drops them)");
   const bool own_normals = cloud.normals.size() == n;
   auto impl = std::make_unique<Impl>();
   impl->is_cloud = true;
   impl->num_primitives = n;
-  impl->vertex_data.resize(4 * n + 1, 0.0f);
-  impl->normal_data.resize(3 * n + 1, 0.0f);
-  impl->radii.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3f& p = cloud.points[i];
-    if (!p.allFinite())
-      return Status::InvalidInput("cloud point " + std::to_string(i) + " is not finite (hint: load through LoadScene, which drops them)");
-    Eigen::Vector3f nrm = own_normals ? cloud.normals[i] : local.normals[i];
+  // The discs: one per point, or one per occupied cell of cloud_cell_m.
+  const PointCloud* discs = &cloud;
+  PointCloud merged;
+  if (options.cloud_cell_m > 0) {
+    MergedCloud m = MergeCloudCells(cloud, options.cloud_cell_m);
+    merged = std::move(m.cloud);
+    impl->disc_point = std::move(m.representative);
+    discs = &merged;
+  }
+  const size_t nd = discs->points.size();
+  const CloudGeometry local = EstimateCloudGeometry(*discs, options.spacing_neighbors);
+  impl->vertex_data.resize(4 * nd + 1, 0.0f);
+  impl->normal_data.resize(3 * nd + 1, 0.0f);
+  impl->radii.resize(nd);
+  for (size_t i = 0; i < nd; ++i) {
+    const Eigen::Vector3f& p = discs->points[i];
+    Eigen::Vector3f nrm = own_normals ? discs->normals[i] : local.normals[i];
     if (!nrm.allFinite() || nrm.squaredNorm() < 1e-12f) nrm = Eigen::Vector3f::UnitZ();
     nrm.normalize();
     const float spacing = local.spacing[i];
@@ -182,12 +252,43 @@ Result<Raycaster> Raycaster::FromCloud(const PointCloud& cloud, const RaycasterO
     impl->vertex_data[4 * i + 3] = radius;
     std::memcpy(&impl->normal_data[3 * i], nrm.data(), 3 * sizeof(float));
   }
+  if (options.cloud_squares) {
+    // Two triangles per disc: the square of half side `radius` in the disc's plane. Triangles of one square
+    // report the disc's index (primID / 2); their barycentrics are not used for clouds.
+    std::vector<float> corners(3 * 4 * nd + 1, 0.0f);
+    impl->faces.resize(2 * nd + 1);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, nd, 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        const Eigen::Vector3f c(impl->vertex_data[4 * i], impl->vertex_data[4 * i + 1], impl->vertex_data[4 * i + 2]);
+        const Eigen::Vector3f nrm(impl->normal_data[3 * i], impl->normal_data[3 * i + 1], impl->normal_data[3 * i + 2]);
+        const Eigen::Vector3f a = std::abs(nrm.x()) < 0.9f ? Eigen::Vector3f::UnitX() : Eigen::Vector3f::UnitY();
+        const Eigen::Vector3f t1 = nrm.cross(a).normalized() * impl->radii[i], t2 = nrm.cross(t1);
+        const Eigen::Vector3f v[4] = {c - t1 - t2, c + t1 - t2, c + t1 + t2, c - t1 + t2};
+        for (int k = 0; k < 4; ++k) std::memcpy(&corners[3 * (4 * i + size_t(k))], v[k].data(), 3 * sizeof(float));
+        const int b = int(4 * i);
+        impl->faces[2 * i] = Eigen::Vector3i(b, b + 1, b + 2);
+        impl->faces[2 * i + 1] = Eigen::Vector3i(b, b + 2, b + 3);
+      }
+    });
+    impl->vertex_data = std::move(corners);
+    impl->squares = true;
+    RTCGeometry tri = rtcNewGeometry(SharedEmbreeDevice(), RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (!tri) return EmbreeFailure("rtcNewGeometry(cloud squares)");
+    rtcSetSharedGeometryBuffer(tri, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, impl->vertex_data.data(), 0, 3 * sizeof(float), 4 * nd);
+    rtcSetSharedGeometryBuffer(tri, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, impl->faces.data(), 0, sizeof(Eigen::Vector3i), 2 * nd);
+    SEMVOX_RETURN_IF_ERROR(CommitScene(tri, options.robust, impl.get(), "point cloud squares"));
+    // Primitive of triangle t: disc t / 2, then its point.
+    std::vector<int32_t> tri_point(2 * nd);
+    for (size_t t = 0; t < 2 * nd; ++t) tri_point[t] = impl->disc_point.empty() ? int32_t(t / 2) : impl->disc_point[t / 2];
+    impl->disc_point = std::move(tri_point);
+    return Raycaster(std::move(impl));
+  }
   RTCGeometry geom = rtcNewGeometry(SharedEmbreeDevice(), RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
   if (!geom) return EmbreeFailure("rtcNewGeometry(oriented discs)");
   rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, impl->vertex_data.data(), 0,
-                             4 * sizeof(float), n);
+                             4 * sizeof(float), nd);
   rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, impl->normal_data.data(), 0,
-                             3 * sizeof(float), n);
+                             3 * sizeof(float), nd);
   SEMVOX_RETURN_IF_ERROR(CommitScene(geom, options.robust, impl.get(), "point cloud"));
   return Raycaster(std::move(impl));
 }
@@ -219,7 +320,7 @@ RayHit Raycaster::Intersect(const Ray& ray) const {
   RayHit h;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
   h.distance = rh.ray.tfar;
-  h.primitive = int32_t(rh.hit.primID);
+  h.primitive = impl_->disc_point.empty() ? int32_t(rh.hit.primID) : impl_->disc_point[rh.hit.primID];
   h.u = impl_->is_cloud ? 0.0f : rh.hit.u;
   h.v = impl_->is_cloud ? 0.0f : rh.hit.v;
   Eigen::Vector3f n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
@@ -243,7 +344,7 @@ void Raycaster::IntersectSerial(std::span<const Ray> rays, std::span<RayHit> hit
     }
     rtcIntersect16(valid, impl_->scene, &context, &packet);
     for (int lane = 0; lane < count; ++lane) {
-      hits[begin + lane] = ToHit(packet, lane);
+      hits[begin + lane] = ToHit(packet, lane, impl_->disc_point);
       if (impl_->is_cloud) hits[begin + lane].u = hits[begin + lane].v = 0.0f;
     }
   }

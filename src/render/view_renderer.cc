@@ -56,6 +56,7 @@ static_assert(sizeof(FaceShade) == 16);
 struct ShadeContext {
   ColorSource color_source;
   bool is_cloud;
+  const int32_t* disc_point;         // Clouds with merged discs: Embree's primitive -> point index; else null.
   const int* face_material;          // kMaterial.
   const Material* materials;         // kMaterial.
   const Rgb8* point_colors;          // kCloud.
@@ -145,6 +146,8 @@ inline __attribute__((always_inline)) int ShadePacketImpl(const ShadeContext& c,
     StoreVec(hit + q, h);
     StoreVec(prim + q, h & LoadVec<I>(p.hit.primID + q));
   }
+  if (c.disc_point)
+    for (int l = 0; l < n; ++l) prim[l] = hit[l] ? c.disc_point[prim[l]] : 0;
   // Gather one 16-byte record per pixel; colours of uniform faces directly.
   alignas(64) float plane[n];
   alignas(64) int32_t axis[n];
@@ -343,6 +346,7 @@ Status ViewRenderer::Render(const PinholeCamera& camera, const Eigen::Isometry3d
   ShadeContext ctx{};
   ctx.color_source = ChooseColorSource(*scene_);
   ctx.is_cloud = rc.is_cloud;
+  ctx.disc_point = rc.disc_point.empty() ? nullptr : rc.disc_point.data();
   ctx.face_material = scene_->mesh.face_material.data();
   ctx.materials = scene_->mesh.materials.data();
   ctx.point_colors = scene_->cloud.colors.data();

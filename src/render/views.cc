@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "core/log.h"
+#include "render/view_selection.h"
 
 namespace semvox {
 namespace {
@@ -122,6 +123,9 @@ bool ViewsOptions::Check(std::string* error) const {
     os << "min_hit_fraction = " << min_hit_fraction << ". Violated constraint: 0 <= min_hit_fraction <= 1";
   else if (thumbnail_width < 16 || thumbnail_width > 8192)
     os << "thumbnail_width = " << thumbnail_width << ". Violated constraint: 16 <= thumbnail_width <= 8192";
+  else if (!in(cloud_cell_m, 0, 1)) os << "cloud_cell_m = " << cloud_cell_m << ". Violated constraint: 0 <= cloud_cell_m <= 1";
+  else if (!(cloud_radius_factor > 0 && cloud_radius_factor <= 10))
+    os << "cloud_radius_factor = " << cloud_radius_factor << ". Violated constraint: 0 < cloud_radius_factor <= 10";
   if (os.str().empty()) return true;
   if (error) *error = os.str();
   return false;
@@ -333,25 +337,9 @@ std::string ViewsToJson(const ViewSet& set, const ViewsOptions& options, bool wi
 
 SurfaceCoverage ComputeSurfaceCoverage(const VoxelGrid& grid, const std::vector<uint8_t>& voxel_seen) {
   SurfaceCoverage cov;
-  const auto& d = grid.dims();
-  const int offsets[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (int z = 0; z < d[2]; ++z)
-    for (int y = 0; y < d[1]; ++y)
-      for (int x = 0; x < d[0]; ++x) {
-        const size_t i = grid.Index(x, y, z);
-        if (grid.state(i) != VoxelState::kOccupied) continue;
-        bool surface = false;
-        for (const auto& o : offsets) {
-          const int a = x + o[0], b = y + o[1], c = z + o[2];
-          if (grid.Contains(a, b, c) && grid.state(grid.Index(a, b, c)) == VoxelState::kFree) {
-            surface = true;
-            break;
-          }
-        }
-        if (!surface) continue;
-        ++cov.surface_voxels;
-        if (i < voxel_seen.size() && voxel_seen[i]) ++cov.seen_voxels;
-      }
+  const std::vector<uint32_t> surface = SurfaceVoxels(grid);
+  cov.surface_voxels = surface.size();
+  for (uint32_t i : surface) cov.seen_voxels += i < voxel_seen.size() && voxel_seen[i];
   return cov;
 }
 

@@ -49,10 +49,29 @@ struct ViewsOptions {
                                       // deviations over hit pixels, 0-255 scale) is below this. >= 0.
   double min_hit_fraction = 0.25;     // Drop views where fewer pixels than this fraction hit the scene. [0, 1].
   int thumbnail_width = 160;          // Width of the PNG thumbnails written by --save-views, pixels. [16, 8192].
+  // Point clouds: the points of each cube of this side become one disc (RaycasterOptions::cloud_cell_m),
+  // metres; 0 renders one disc per point. [0, 1].
+  double cloud_cell_m = 0.05;
+  // Point clouds: disc radius as a multiple of the mean distance to the 8 nearest discs
+  // (RaycasterOptions::point_radius_factor). On a square grid of spacing s that distance is 1.21 s and
+  // discs close the plane from 0.59 on; larger factors overlap more and cost more rays' tests. (0, 10].
+  double cloud_radius_factor = 0.75;
+  // Point clouds: each disc drawn as the square around it (two triangles; RaycasterOptions::cloud_squares).
+  // On generated apartments squares of 0.7-0.8 x the spacing at 5 cm cells trace in 1.2-1.4 x a mesh's time
+  // where single-point discs took 4.8 x, with labels agreeing with the mesh's views as well or better
+  // (bench/cloud_render_bench.cc, docs/speed.md).
+  bool cloud_squares = true;
 
   bool Check(std::string* error) const;
   PinholeCamera Camera() const { return PinholeCamera::FromHorizontalFov(width, height, horizontal_fov_deg); }
   RenderOptions Render(double voxel_size_m) const { return RenderOptions{voxel_size_m, max_depth_m}; }
+  RaycasterOptions Raycaster() const {
+    RaycasterOptions o;
+    o.cloud_cell_m = cloud_cell_m;
+    o.point_radius_factor = cloud_radius_factor;
+    o.cloud_squares = cloud_squares;
+    return o;
+  }
 };
 
 // Why a view was dropped.

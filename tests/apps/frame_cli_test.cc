@@ -72,7 +72,14 @@ TEST(FrameCli, TurnedTiltedShiftedApartmentGivesTheSameRoomsAndLabels) {
   const auto t0 = std::chrono::steady_clock::now();
   testing::ScratchDir dir("frame_cli");
   const std::string gt = dir.File("gt"), a = dir.File("a"), b = dir.File("b"), log = dir.File("log.txt");
-  const std::string config = std::string(SEMVOX_SOURCE_DIR) + "/tests/data/semantic.yaml";
+  // The test's short configuration, with every candidate classified: the greedy view cover (the default,
+  // issue 18) picks other views in a turned frame, so it would test the cover's choice as well as the frame.
+  // Measured with the cover (Release, 2026-12-02): visible-voxel accuracy 0.835 original, 0.799 moved
+  // (agreement 0.930): the original frame gained 2 points over classifying every view, the moved one kept
+  // its accuracy.
+  const std::string config = dir.File("frame.yaml");
+  testing::WriteText(config, testing::ReadText(std::string(SEMVOX_SOURCE_DIR) + "/tests/data/semantic.yaml") +
+                                 "  view_selection: all\n");
   ASSERT_EQ(RunSemvox("generate --seed 102 --set apartment.min_rooms=2 --set apartment.max_rooms=3 -o " + gt, log), 0) << testing::ReadText(log);
   Result<Scene> scene = LoadScene(gt + "/mesh.ply");
   ASSERT_TRUE(scene.ok()) << scene.status().message();

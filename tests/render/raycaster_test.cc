@@ -108,5 +108,41 @@ TEST(Raycaster, CloudDiscsCloseAPlane) {
   EXPECT_EQ(hits, total);
 }
 
+TEST(Raycaster, MergedCloudSquaresCloseAPlaneAndReportPoints) {
+  // The same 2 cm samples merged into 5 cm cells and drawn as squares: fewer primitives, the plane still
+  // closed, and every hit reports one of the cloud's points (colours and labels come from it).
+  PointCloud cloud;
+  for (int i = 0; i <= 50; ++i)
+    for (int j = 0; j <= 50; ++j) cloud.points.push_back({0.02f * i, 0.02f * j, 0.0f});
+  RaycasterOptions options;
+  options.cloud_cell_m = 0.05;
+  options.point_radius_factor = 0.75;
+  for (bool squares : {false, true}) {
+    options.cloud_squares = squares;
+    Result<Raycaster> rc = Raycaster::FromCloud(cloud, options);
+    ASSERT_TRUE(rc.ok()) << rc.status().message();
+    EXPECT_EQ(rc->num_primitives(), cloud.points.size());
+    EXPECT_LT(rc->point_radii().size(), cloud.points.size() / 4);  // 21 x 21 cells of 2.5 x 2.5 points.
+    int hits = 0, total = 0;
+    for (float x = 0.1f; x < 0.9f; x += 0.0137f)
+      for (float y = 0.1f; y < 0.9f; y += 0.0173f) {
+        ++total;
+        Ray ray{{x, y, 1.0f}, {0, 0, -1}};
+        RayHit h = rc->Intersect(ray);
+        if (!h.hit()) continue;
+        ++hits;
+        ASSERT_GE(h.primitive, 0);
+        ASSERT_LT(size_t(h.primitive), cloud.points.size());
+        // The reported point lies in the hit's neighbourhood (its cell or the next).
+        EXPECT_LT((cloud.points[size_t(h.primitive)].head<2>() - Eigen::Vector2f(x, y)).norm(), 0.1f);
+        EXPECT_NEAR(h.distance, 1.0f, 1e-4f);
+        EXPECT_NEAR(std::abs(h.normal.z()), 1.0f, 1e-4f);
+      }
+    EXPECT_EQ(hits, total) << (squares ? "squares" : "discs");
+  }
+  options.cloud_cell_m = -1;
+  EXPECT_FALSE(Raycaster::FromCloud(cloud, options).ok());
+}
+
 }  // namespace
 }  // namespace semvox
