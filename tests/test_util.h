@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -38,6 +39,24 @@ inline void WriteText(const std::string& path, const std::string& text) {
 inline std::string ReadText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Decodes standard base64 (the report's data: URIs and packed arrays); "" on a character outside the
+// alphabet.
+inline std::string Base64Decode(const std::string& in) {
+  static const std::string kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char c : in) {
+    if (c == '=') break;
+    const size_t v = kAlphabet.find(c);
+    if (v == std::string::npos) return "";
+    acc = acc << 6 | uint32_t(v);
+    bits += 6;
+    if (bits >= 8) out += char((acc >> (bits - 8)) & 0xff), bits -= 8;
+  }
+  return out;
 }
 
 }  // namespace semvox::testing

@@ -66,21 +66,7 @@ size_t Occurrences(const std::string& text, const std::string& what) {
   return n;
 }
 
-std::string Base64Decode(const std::string& in) {
-  static const std::string kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  uint32_t acc = 0;
-  int bits = 0;
-  for (char c : in) {
-    if (c == '=') break;
-    const size_t v = kAlphabet.find(c);
-    if (v == std::string::npos) return "";
-    acc = acc << 6 | uint32_t(v);
-    bits += 6;
-    if (bits >= 8) out += char((acc >> (bits - 8)) & 0xff), bits -= 8;
-  }
-  return out;
-}
+using testing::Base64Decode;
 
 // Every src/href is a data: URI (or a fragment) and no http(s) URL appears anywhere but in the inlined three.js,
 // whose text is the library's file byte for byte (its URLs are the XHTML namespace name and references in

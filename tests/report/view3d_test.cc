@@ -197,19 +197,7 @@ TEST(View3d, WallsAndFurnitureSwitchWithTheNearestRoom) {
   }
 }
 
-std::string Base64Decode(const std::string& in) {
-  static const std::string kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  uint32_t acc = 0;
-  int bits = 0;
-  for (char c : in) {
-    if (c == '=') break;
-    acc = acc << 6 | uint32_t(kAlphabet.find(c));
-    bits += 6;
-    if (bits >= 8) out += char((acc >> (bits - 8)) & 0xff), bits -= 8;
-  }
-  return out;
-}
+using testing::Base64Decode;
 
 // The section's JSON decodes back to the cells; switches hold every class and room; script text is safe.
 TEST(View3d, PageSectionCarriesThePackedVoxels) {
