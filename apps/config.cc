@@ -173,6 +173,16 @@ const std::vector<Field>& Fields() {
       sel.set_str = [](PipelineConfig& c, const std::string& v) { ParseClassifyViewSelection(v, &c.semantic.view_selection); };
       f.push_back(sel);
     }
+    {
+      Field m;
+      m.section = "semantic";
+      m.key = "voxel_crf_model";
+      m.doc = "Voxel-CRF weights: mesh (models/voxel_crf.txt), cloud (models/voxel_crf_cloud.txt, learned on simulated fused clouds, where the object segments count most), or auto (mesh for meshes, cloud for point clouds)";
+      m.choices = {"auto", "mesh", "cloud"};
+      m.get_str = [](const PipelineConfig& c) { return std::string(VoxelCrfModelChoiceName(c.semantic.crf_model)); };
+      m.set_str = [](PipelineConfig& c, const std::string& v) { ParseVoxelCrfModelChoice(v, &c.semantic.crf_model); };
+      f.push_back(m);
+    }
     f.push_back(SEMVOX_INT_FIELD("semantic", semantic.selection, min_views_per_voxel, 1, 100, "cover: chosen views that should see each surface voxel (k)"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.selection, max_incidence_deg, 1, 90, "cover: a view sees a voxel only when its ray meets the surface at most this far from the normal, degrees"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.selection, min_gain_fraction, 0, 0.999999, "cover: stop when the best further view meets less than this fraction of the total demand"));

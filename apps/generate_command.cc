@@ -64,6 +64,7 @@ Status ApplySettings(const std::vector<std::string>& settings, GeneratorConfig* 
   num("apartment.surface_cell_m", &a.surface_cell_m);
   flag("apartment.furniture", &a.furniture);
   flag("apartment.props", &a.props);
+  flag("apartment.shape_variety", &a.shape_variety);
   ScanArtefactOptions& r = c->artefacts;
   flag("artefacts.remove_hidden", &r.remove_hidden);
   num("artefacts.hidden_margin_m", &r.hidden_margin_m);
@@ -117,6 +118,8 @@ Status RunGenerate(const GenerateArgs& args) {
     config.artefacts.unscanned_ceiling_fraction = 0;
     config.artefacts.vertex_noise_m = 0;
   }
+  // The randomised validation set has the randomised training scans' furniture shapes too.
+  config.apartment.shape_variety = args.randomised;
   SEMVOX_RETURN_IF_ERROR(ApplySettings(args.settings, &config));
   SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(args.outdir));
   if (args.demo) {

@@ -149,6 +149,8 @@ Status RunPipeline(const RunArgs& args) {
     SemanticStageOptions semantic_options = config.semantic;
     if (semantic_options.view_selection == ClassifyViewSelection::kAuto)
       semantic_options.view_selection = scene.is_mesh() ? ClassifyViewSelection::kCover : ClassifyViewSelection::kAll;
+    if (semantic_options.crf_model == VoxelCrfModelChoice::kAuto)
+      semantic_options.crf_model = scene.is_mesh() ? VoxelCrfModelChoice::kMesh : VoxelCrfModelChoice::kCloud;
     Result<std::unique_ptr<SemanticStage>> st = SemanticStage::Create(map, renderer.value(), semantic_options, models_dir);
     if (!st.ok()) return st.status();
     semantic = std::move(st).value();

@@ -32,6 +32,18 @@ const char* ClassifyViewSelectionName(ClassifyViewSelection s) {
   return s == ClassifyViewSelection::kAll ? "all" : s == ClassifyViewSelection::kCover ? "cover" : "auto";
 }
 
+const char* VoxelCrfModelChoiceName(VoxelCrfModelChoice c) {
+  return c == VoxelCrfModelChoice::kMesh ? "mesh" : c == VoxelCrfModelChoice::kCloud ? "cloud" : "auto";
+}
+
+bool ParseVoxelCrfModelChoice(const std::string& name, VoxelCrfModelChoice* c) {
+  if (name == "mesh") *c = VoxelCrfModelChoice::kMesh;
+  else if (name == "cloud") *c = VoxelCrfModelChoice::kCloud;
+  else if (name == "auto") *c = VoxelCrfModelChoice::kAuto;
+  else return false;
+  return true;
+}
+
 bool ParseClassifyViewSelection(const std::string& name, ClassifyViewSelection* s) {
   if (name == "all") *s = ClassifyViewSelection::kAll;
   else if (name == "cover") *s = ClassifyViewSelection::kCover;
@@ -81,6 +93,7 @@ struct SemanticStage::Impl {
   double seconds_segments = 0;
   VoxelCrfModel model;
   bool model_trained = false;
+  std::string model_file;  // File name of the loaded Voxel-CRF model (voxel_crf.txt or voxel_crf_cloud.txt).
   VoxelCrfNodes nodes;
   std::unique_ptr<EvidenceAccumulator> acc;
   VoxelEvidence evidence;
@@ -128,12 +141,18 @@ Result<std::unique_ptr<SemanticStage>> SemanticStage::Create(const VoxelMap& map
   } else {
     SEMVOX_WARN(segment_path << ": not found; the Voxel-CRF runs without the object-segment term (run `semvox train`)");
   }
-  const std::string model_path = models_dir + "/voxel_crf.txt";
+  std::string model_path = models_dir + "/voxel_crf.txt";
+  if (options.crf_model == VoxelCrfModelChoice::kCloud) {
+    const std::string cloud_path = models_dir + "/voxel_crf_cloud.txt";
+    if (fs::exists(cloud_path, ec)) model_path = cloud_path;
+    else SEMVOX_WARN(cloud_path << ": not found; the Voxel-CRF uses " << model_path << " (run `semvox train --voxel-crf --voxel-crf-style cloud`)");
+  }
   if (fs::exists(model_path, ec)) {
     Result<VoxelCrfModel> m = VoxelCrfModel::Load(model_path);
     if (!m.ok()) return m.status();
     impl->model = std::move(m).value();
     impl->model_trained = true;
+    impl->model_file = fs::path(model_path).filename().string();
   } else {
     impl->model = VoxelCrfModel::Default(Nyu40OfClasses(impl->level), impl->level.class_names);
     SEMVOX_WARN(model_path << ": not found; the Voxel-CRF uses untrained default weights (run `semvox train`)");
@@ -406,7 +425,7 @@ Status SemanticStage::Write(const std::string& outdir, const ImageU16* room_ids,
 nlohmann::ordered_json SemanticStage::Summary() const {
   const Impl& s = *impl_;
   nlohmann::ordered_json j;
-  j["model"] = s.model_trained ? "models/voxel_crf.txt" : "untrained defaults";
+  j["model"] = s.model_trained ? "models/" + s.model_file : std::string("untrained defaults");
   j["classification_views"] = s.classification_views;
   nlohmann::ordered_json sel = {{"method", ClassifyViewSelectionName(s.options.view_selection)},
                                  {"candidates", s.selection.candidates},

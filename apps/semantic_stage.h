@@ -39,6 +39,17 @@ enum class ClassifyViewSelection {
 const char* ClassifyViewSelectionName(ClassifyViewSelection s);  // "all", "cover", "auto"
 bool ParseClassifyViewSelection(const std::string& name, ClassifyViewSelection* s);
 
+// Which Voxel-CRF weights are used.
+enum class VoxelCrfModelChoice {
+  kMesh,   // models/voxel_crf.txt: learned on flat and randomised scans alike (`--voxel-crf-style mixed`).
+  kCloud,  // models/voxel_crf_cloud.txt: learned on simulated fused clouds only (`--voxel-crf-style cloud`),
+           // where the per-view evidence is weakest and the object segments count most; falls back to
+           // voxel_crf.txt with a warning when absent.
+  kAuto,   // kMesh for meshes, kCloud for point clouds (resolved by `semvox run` once the input is loaded).
+};
+const char* VoxelCrfModelChoiceName(VoxelCrfModelChoice c);  // "mesh", "cloud", "auto"
+bool ParseVoxelCrfModelChoice(const std::string& name, VoxelCrfModelChoice* c);
+
 struct SemanticStageOptions {
   bool enabled = true;                  // Run the per-view classifiers and the Voxel-CRF.
   double classify_yaw_step_deg = 30.0;  // Yaw between candidate classification views of one viewpoint, degrees; divides 360.
@@ -48,6 +59,7 @@ struct SemanticStageOptions {
   int classify_width = 320;
   int classify_height = 240;
   ClassifyViewSelection view_selection = ClassifyViewSelection::kAuto;
+  VoxelCrfModelChoice crf_model = VoxelCrfModelChoice::kAuto;
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
@@ -63,7 +75,8 @@ struct ClassifiedViewRoomEvidence {
 
 class SemanticStage {
  public:
-  // Loads the classifier and the CRF model from `models_dir` (second.*, room_type_knn.bin, voxel_crf.txt).
+  // Loads the classifier and the CRF model from `models_dir` (second.*, room_type_knn.bin, object_segments.knn,
+  // voxel_crf.txt or voxel_crf_cloud.txt by options.crf_model).
   static Result<std::unique_ptr<SemanticStage>> Create(const VoxelMap& map, const ViewRenderer& renderer,
                                                        const SemanticStageOptions& options, const std::string& models_dir);
   ~SemanticStage();

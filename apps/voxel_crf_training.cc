@@ -1,5 +1,6 @@
 // `semvox train --voxel-crf`: learns the Voxel-CRF's weights by structural SVM (Kim et al. 2013, Sec. 5.2)
-// and its layout prior on generated apartments, and writes OUTDIR/voxel_crf.txt and voxel_crf_report.json.
+// and its layout prior on generated apartments, and writes OUTDIR/voxel_crf.txt and voxel_crf_report.json
+// (--voxel-crf-style cloud: voxel_crf_cloud.txt and voxel_crf_cloud_report.json).
 //
 // Each training apartment goes through the same stages as `semvox run` (randomised scan as for the per-view
 // classifiers (perception/training_data.h, MakeTrainingScan), voxelisation,
@@ -44,22 +45,29 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
   std::map<int, size_t> other_ids;  // NYU40 ids that fall in "other", by voxel count.
   const int other_class = K - 1;
   const bool mixed = args.voxel_crf_style == "mixed";
+  // cloud: randomised scans that are all simulated fused clouds; the weights go to voxel_crf_cloud.txt,
+  // which `semvox run` uses for point-cloud input (SemanticStageOptions::crf_model).
+  const bool cloud = args.voxel_crf_style == "cloud";
   TrainingStyle fixed_style = TrainingStyle::kFlat;
-  if (!mixed && !ParseTrainingStyle(args.voxel_crf_style, &fixed_style))
-    return Status::InvalidInput("--voxel-crf-style = '" + args.voxel_crf_style + "': expected flat, randomised or mixed");
+  if (cloud) fixed_style = TrainingStyle::kRandomised;
+  else if (!mixed && !ParseTrainingStyle(args.voxel_crf_style, &fixed_style))
+    return Status::InvalidInput("--voxel-crf-style = '" + args.voxel_crf_style + "': expected flat, randomised, cloud or mixed");
+  const std::string model_name = cloud ? "voxel_crf_cloud" : "voxel_crf";
   for (size_t seed_index = 0; seed_index < seeds.size(); ++seed_index) {
     const uint64_t seed = seeds[seed_index];
     ApartmentOptions ao;
     ao.seed = seed;
     ao.max_rooms = 4;
-    Result<Apartment> apt = GenerateApartment(ao);
-    if (!apt.ok()) return apt.status();
-    Item& it = items.emplace_back();
     // Flat scans (the generator's meshes) and randomised ones (palettes, textures, lighting, simulated fused
     // clouds of random spacing: what a real scan looks like), alternating when mixed, so that the weights
     // see the evidence of both.
     TrainingViewsOptions style;
     style.style = mixed ? (seed_index % 2 == 0 ? TrainingStyle::kFlat : TrainingStyle::kRandomised) : fixed_style;
+    if (cloud) style.cloud_probability = 1.0;
+    ao.shape_variety = style.style == TrainingStyle::kRandomised;
+    Result<Apartment> apt = GenerateApartment(ao);
+    if (!apt.ok()) return apt.status();
+    Item& it = items.emplace_back();
     Result<Scene> scan = MakeTrainingScan(*apt, seed, style);
     if (!scan.ok()) return scan.status();
     it.scene = std::move(scan).value();
@@ -69,7 +77,10 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
     Result<ViewRenderer> renderer = ViewRenderer::Create(it.scene);
     if (!renderer.ok()) return renderer.status();
     it.renderer = std::make_unique<ViewRenderer>(std::move(renderer).value());
-    Result<std::unique_ptr<SemanticStage>> stage = SemanticStage::Create(it.map, *it.renderer, config.semantic, args.outdir);
+    SemanticStageOptions semantic_options = config.semantic;  // As `semvox run` resolves auto for this scan.
+    if (semantic_options.view_selection == ClassifyViewSelection::kAuto)
+      semantic_options.view_selection = it.scene.is_mesh() ? ClassifyViewSelection::kCover : ClassifyViewSelection::kAll;
+    Result<std::unique_ptr<SemanticStage>> stage = SemanticStage::Create(it.map, *it.renderer, semantic_options, args.outdir);
     if (!stage.ok()) return stage.status();
     it.stage = std::move(stage).value();
     Result<ViewSet> views = RenderViews(*it.renderer, it.map, config.render, it.stage->DepthSink());
@@ -121,7 +132,7 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
   model.w = *w;
   Result<double> after = training_error(model.w);
   if (!after.ok()) return after.status();
-  SEMVOX_RETURN_IF_ERROR(model.Save((std::filesystem::path(args.outdir) / "voxel_crf.txt").string()));
+  SEMVOX_RETURN_IF_ERROR(model.Save((std::filesystem::path(args.outdir) / (model_name + ".txt")).string()));
   nlohmann::ordered_json report;
   report["seeds"] = args.voxel_crf_seeds;
   report["style"] = args.voxel_crf_style;
@@ -136,9 +147,9 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
   report["weights"] = std::vector<double>(model.w.begin(), model.w.end());
   report["other_class_nyu40"] = nyu40[size_t(other_class)];
   report["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((std::filesystem::path(args.outdir) / "voxel_crf_report.json").string(), report.dump(2) + "\n"));
+  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((std::filesystem::path(args.outdir) / (model_name + "_report.json")).string(), report.dump(2) + "\n"));
   SEMVOX_INFO("voxel CRF training: per-voxel training error " << *before << " with the default weights, " << *after
-                                                              << " learned; " << args.outdir << "/voxel_crf.txt");
+                                                              << " learned; " << args.outdir << "/" << model_name << ".txt");
   return Status::Ok();
 }
 

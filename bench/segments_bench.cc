@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
     else if (a == "--split-step") so.split_top_step_m = std::atof(argv[i + 1]);
     else if (a == "--min-part") so.min_part_area_m2 = std::atof(argv[i + 1]);
     else if (a == "--wall-length") so.wall_min_length_m = std::atof(argv[i + 1]);
+    else if (a == "--front-max") so.front_max_depth_m = std::atof(argv[i + 1]);
+    else if (a == "--front-min") so.front_min_depth_m = std::atof(argv[i + 1]);
     else {
       std::fprintf(stderr, "segments_bench: unknown argument %s\n", a.c_str());
       return 2;

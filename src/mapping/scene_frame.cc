@@ -133,7 +133,8 @@ bool DominantAxisNearZ(const Samples& s, double cone_rad, double refine_rad, Eig
 }
 
 // Whether the floor lies on the +axis side of the scan (up = -axis): furniture tops, seats and table
-// undersides lie in the lower half between the lowest and highest horizontal planes. Face orientation cannot
+// undersides lie in the lower half between the lowest and highest horizontal planes, and the floor is the
+// larger of those two planes. Face orientation cannot
 // tell: a turned room still has its normals pointing inwards (closed meshes) or towards the scanner.
 bool LooksUpsideDown(const Samples& s, const Eigen::Vector3d& axis, double horizontal_rad) {
   const double cos_h = std::cos(horizontal_rad);
@@ -154,12 +155,17 @@ bool LooksUpsideDown(const Samples& s, const Eigen::Vector3d& axis, double horiz
     return horizontal.back().first;
   };
   const double lo = quantile(0.01), hi = quantile(0.99), mid = 0.5 * (lo + hi);
-  double below = 0, above = 0;
+  double below = 0, above = 0, at_lo = 0, at_hi = 0;
   for (const auto& [h, w] : horizontal) {
-    if (h < lo + 0.15 || h > hi - 0.15) continue;  // The extreme planes themselves.
-    (h < mid ? below : above) += w;
+    if (h < lo + 0.15) at_lo += w;  // The extreme planes themselves.
+    else if (h > hi - 0.15) at_hi += w;
+    else (h < mid ? below : above) += w;
   }
-  return above > below;
+  // Two votes in [-1, 1], positive when the floor is at the low end: the furniture (tops, seats in the
+  // lower half) and the extreme planes (the floor is the larger: fused clouds often miss the ceiling
+  // wholly or in patches, and shelves and wall cabinets high up then outweigh the furniture below).
+  auto vote = [](double a, double b) { return a + b > 0 ? (a - b) / (a + b) : 0.0; };
+  return vote(below, above) + vote(at_lo, at_hi) < 0;
 }
 
 // Wall direction modulo 90 degrees in the levelled frame, (-45, 45] degrees: peak of the area-weighted

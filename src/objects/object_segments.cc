@@ -20,6 +20,9 @@ bool SegmentOptions::Check(std::string* error) const {
   if (!(split_height_m >= 0 && split_top_step_m >= 0 && min_part_area_m2 >= 0))
     return fail("split_height_m, split_top_step_m and min_part_area_m2 must be >= 0");
   if (min_voxels < 1 || max_voxels < min_voxels) return fail("segment sizes: need 1 <= min_voxels <= max_voxels");
+  if (!(front_min_depth_m >= 0 && (front_max_depth_m == 0 || front_max_depth_m > front_min_depth_m)))
+    return fail("front_min_depth_m must be >= 0 and front_max_depth_m 0 or > front_min_depth_m");
+  if (!(front_free_share > 0 && front_free_share <= 1)) return fail("front_free_share must be in (0, 1]");
   return true;
 }
 
@@ -269,12 +272,86 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
   const int band_cells = band_hi - band_lo + 1;
   std::vector<uint8_t> wall(size_t(d[0]) * d[1], 0);
   if (band_cells >= 2) {
+    std::vector<uint8_t> free_column(wall.size(), 0);
+    std::vector<int> column_top(wall.size(), -1);
     for (int y = 0; y < d[1]; ++y)
       for (int x = 0; x < d[0]; ++x) {
-        int count = 0;
-        for (int z = band_lo; z <= band_hi; ++z) count += grid.state(grid.Index(x, y, z)) == VoxelState::kOccupied;
-        wall[size_t(y) * d[0] + x] = count >= options.wall_min_coverage * band_cells;
+        int count = 0, free = 0;
+        for (int z = band_lo; z <= band_hi; ++z) {
+          const VoxelState st = grid.state(grid.Index(x, y, z));
+          count += st == VoxelState::kOccupied;
+          free += st == VoxelState::kFree;
+        }
+        const size_t i = size_t(y) * d[0] + x;
+        wall[i] = count >= options.wall_min_coverage * band_cells;
+        free_column[i] = free >= options.front_free_share * band_cells;
+        for (int z = d[2] - 1; z >= 0; --z)
+          if (grid.state(grid.Index(x, y, z)) == VoxelState::kOccupied) {
+            column_top[i] = z;
+            break;
+          }
       }
+    if (options.front_max_depth_m > 0) {
+      // Furniture fronts (see SegmentOptions): free in front, unseen behind up to a higher occupied column.
+      const int k_min = std::max(1, int(std::ceil(options.front_min_depth_m / res - 1e-9)));
+      const int k_max = int(std::floor(options.front_max_depth_m / res + 1e-9));
+      const int rise = std::max(1, int(std::lround(0.2 / res)));
+      std::vector<uint8_t> front(wall.size(), 0);
+      const int dir[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+      for (int y = 0; y < d[1]; ++y)
+        for (int x = 0; x < d[0]; ++x) {
+          const size_t i = size_t(y) * d[0] + x;
+          if (!wall[i]) continue;
+          for (const auto& u : dir) {
+            const int fx = x - u[0], fy = y - u[1];
+            if (fx < 0 || fy < 0 || fx >= d[0] || fy >= d[1] || !free_column[size_t(fy) * d[0] + fx]) continue;
+            bool hit = false;
+            for (int k = 1; k <= k_max; ++k) {
+              const int bx = x + k * u[0], by = y + k * u[1];
+              if (bx < 0 || by < 0 || bx >= d[0] || by >= d[1]) break;
+              const size_t j = size_t(by) * d[0] + bx;
+              if (free_column[j]) break;
+              const bool higher = column_top[j] >= column_top[i] + rise;
+              if (k >= k_min && higher) {
+                hit = true;
+                break;
+              }
+              if (wall[j] && k < k_min) break;  // The wall's own thickness, or along a wall.
+
+            }
+            if (hit) {
+              front[i] = 1;
+              break;
+            }
+          }
+        }
+      // The object's sides (and the rest of its face) join the front: wall columns 8-connected to a front,
+      // no higher than its top + 0.1 m and within front_max_depth_m of it. The wall beside or behind it rises
+      // higher and stays wall.
+      struct Grow {
+        int i, top, steps;
+      };
+      std::vector<Grow> queue;
+      for (size_t i = 0; i < wall.size(); ++i)
+        if (front[i]) queue.push_back({int(i), column_top[i], 0});
+      const int slack = std::max(1, int(std::lround(0.1 / res)));
+      for (size_t head = 0; head < queue.size(); ++head) {
+        const Grow g = queue[head];
+        if (g.steps >= k_max) continue;
+        const int x = g.i % d[0], y = g.i / d[0];
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= d[0] || yy >= d[1]) continue;
+            const size_t j = size_t(yy) * d[0] + xx;
+            if (!wall[j] || front[j] || column_top[j] > g.top + slack) continue;
+            front[j] = 1;
+            queue.push_back({int(j), g.top, g.steps + 1});
+          }
+      }
+      for (size_t i = 0; i < wall.size(); ++i)
+        if (front[i]) wall[i] = 0;
+    }
     std::vector<uint8_t> done(wall.size(), 0);
     std::vector<int> stack, group;
     for (size_t s = 0; s < wall.size(); ++s) {

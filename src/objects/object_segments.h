@@ -16,7 +16,9 @@
 // `ceiling_band_m` of a found ceiling), and walls: walls run from floor to ceiling, so a column (x, y) is a
 // wall column when at least `wall_min_coverage` of its cells between floor + `wall_band_bottom_m` and the
 // ceiling (or the scan's top) - `wall_band_top_m` are occupied, in any order: a sparse real scan leaves
-// holes in walls, and windows and doors cut them. 8-connected groups of wall columns shorter than
+// holes in walls, and windows and doors cut them. A wall column with the room in front of it and, behind
+// it, unseen space up to something higher (0.3-1.6 m back) is the front of a fridge, wardrobe or cabinet
+// standing against the wall, and not wall (`front_*`). 8-connected groups of wall columns shorter than
 // `wall_min_length_m` are dropped (a lone tall column is furniture); walls need not lie along the axes.
 // Counters, tables, beds and sofas, and wall cabinets above a counter, cover too little of the band and
 // stay objects. What remains is cut into 26-connected components of at least `min_voxels`, found above
@@ -43,6 +45,14 @@ struct SegmentOptions {
   double wall_band_top_m = 0.35;    // ... to the ceiling (or the scan's top) - this. >= 0.
   double wall_min_length_m = 1.0;   // 8-connected wall columns whose extent (bounding-box diagonal) is under this are not walls. > 0.
   int wall_dilation_cells = 1;      // Wall columns grow by this many cells (thick, noisy walls). >= 0.
+  // Furniture fronts: a wall column with free space on one side (the room) and, behind it on the other,
+  // columns that are not free (the inside of a cabinet or fridge, never seen) up to an occupied column that
+  // rises higher (the wall behind, or what stands on top) between front_min_depth_m and front_max_depth_m
+  // is the front of furniture standing against the wall, not wall. A wall's own thickness is under
+  // front_min_depth_m; behind an exterior wall nothing is occupied. front_max_depth_m = 0: no test.
+  double front_min_depth_m = 0.3;   // >= 0.
+  double front_max_depth_m = 1.6;   // 0 or > front_min_depth_m.
+  double front_free_share = 0.3;    // A column is free (room) when at least this share of its wall band is free. (0, 1].
   double split_height_m = 0.25;     // Segments are cut above floor + this; lower voxels join what they touch. >= 0.
   double split_top_step_m = 0.1;    // Parts of a segment: footprint columns whose tops differ by at most this grow
                                     // into one part (0: no cut). >= 0.

@@ -30,13 +30,14 @@ Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, st
                         std::vector<int>* classes, std::vector<int>* voxels) {
   ApartmentOptions ao;
   ao.seed = seed;
+  ao.shape_variety = options.scans.style == TrainingStyle::kRandomised;
   Result<Apartment> apartment = GenerateApartment(ao);
   if (!apartment.ok()) return apartment.status();
   Result<Scene> scene = MakeTrainingScan(*apartment, seed, options.scans);
   if (!scene.ok()) return scene.status();
   VoxelizeOptions vo;
   vo.voxel_size_m = options.voxel_size_m;
-  vo.free_space = false;  // Segments read only the occupied voxels and the floor / ceiling heights.
+  // With free space as `semvox run` has it: the furniture-front test (SegmentOptions::front_*) reads it.
   Result<VoxelMap> map = Voxelize(*scene, vo);
   if (!map.ok()) return map.status();
   const SegmentationResult seg = SegmentObjects(map->grid, map->floor_z, map->ceiling_z, map->ceiling_found, options.segments);

@@ -191,6 +191,7 @@ Status ForEachApartmentView(uint64_t seed, const TrainingViewsOptions& options,
   if (!options.Check(&error)) return Status::InvalidInput("training views: " + error);
   ApartmentOptions apartment_options;
   apartment_options.seed = seed;
+  apartment_options.shape_variety = options.style == TrainingStyle::kRandomised;
   Result<Apartment> apartment = GenerateApartment(apartment_options);
   if (!apartment.ok()) return apartment.status();
   const bool randomised = options.style == TrainingStyle::kRandomised;

@@ -378,7 +378,7 @@ Result<Apartment> GenerateApartment(const ApartmentOptions& options) {
   }
   ApartmentBuilder builder(&apt, options.surface_cell_m);
   BuildStructure(plan, options.floor_z_m, &rng, &builder);
-  if (options.furniture) FurnishApartment(plan, options.props, &rng, &builder);
+  if (options.furniture) FurnishApartment(plan, options.props, options.shape_variety, &rng, &builder);
   builder.Finish();
   return apt;
 }

@@ -36,6 +36,9 @@ struct ApartmentOptions {
                                   // size (small cells let holes and occlusion removal act locally). > 0.
   bool furniture = true;          // Furniture per room type.
   bool props = true;              // Small props (books, boxes, bags, clothes, paper, ...) on supports.
+  bool shape_variety = false;     // More furniture shapes (L-shaped sofas, seat cushions, bar tables, bins,
+                                  // pedestal desks, free-standing cabinets): the randomised training and
+                                  // validation scans use it; off, the apartments of a seed stay as they were.
   int max_attempts = 200;         // Layout attempts before giving up (each draws a new layout).
 
   bool Check(std::string* error) const;

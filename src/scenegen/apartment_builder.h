@@ -74,7 +74,8 @@ class ApartmentBuilder {
 };
 
 // Furnishes every room of the plan (furniture by room type, then props).
-void FurnishApartment(const FloorPlan& plan, bool props, Rng* rng, ApartmentBuilder* builder);
+// `variety`: ApartmentOptions::shape_variety (no extra random draws when false).
+void FurnishApartment(const FloorPlan& plan, bool props, bool variety, Rng* rng, ApartmentBuilder* builder);
 
 }  // namespace scenegen
 }  // namespace semvox

@@ -214,6 +214,7 @@ std::string GroundTruthJson(const Apartment& apt, const FloorGrid& g, const Grou
                             {"max_ceiling_m", options.max_ceiling_m}, {"min_wall_m", options.min_wall_m},
                             {"max_wall_m", options.max_wall_m}, {"surface_cell_m", options.surface_cell_m},
                             {"furniture", options.furniture}, {"props", options.props}};
+  if (options.shape_variety) j["generator_options"]["shape_variety"] = true;  // Absent when off: files as before.
   j["artefact_options"] = {{"remove_hidden", art.remove_hidden}, {"hidden_margin_m", art.hidden_margin_m},
                            {"holes_per_m2", art.holes_per_m2}, {"min_hole_radius_m", art.min_hole_radius_m},
                            {"max_hole_radius_m", art.max_hole_radius_m},

@@ -29,8 +29,8 @@ constexpr double kFlatMat = 0.01;   // Thickness of floor mats (rugs), metres.
 // Furnishing one room: its clear interior, what is already there, and where props may go.
 class RoomFurnisher {
  public:
-  RoomFurnisher(const FloorPlan& plan, int room_index, Rng* rng, ApartmentBuilder* b)
-      : plan_(plan), r_(plan.rooms[size_t(room_index)]), room_(room_index + 1), rng_(rng), b_(b) {
+  RoomFurnisher(const FloorPlan& plan, int room_index, bool variety, Rng* rng, ApartmentBuilder* b)
+      : plan_(plan), r_(plan.rooms[size_t(room_index)]), room_(room_index + 1), variety_(variety), rng_(rng), b_(b) {
     H_ = plan.ceiling;
     z_ = b->apartment()->floor_z_m;
     // Door swing squares (both sides of every door) and window slabs are kept clear.
@@ -48,6 +48,10 @@ class RoomFurnisher {
   }
 
   int room() const { return room_; }
+  // ApartmentOptions::shape_variety; `Maybe(p)` draws only when it is on, so apartments without it keep
+  // their random sequence.
+  bool variety() const { return variety_; }
+  bool Maybe(double p) { return variety_ && rng_->Bernoulli(p); }
   double ceiling() const { return H_; }
   const Rect& in() const { return r_.interior; }
   Rng* rng() { return rng_; }
@@ -160,6 +164,7 @@ class RoomFurnisher {
   const FloorPlan& plan_;
   const PlanRoom& r_;
   int room_;
+  bool variety_ = false;
   Rng* rng_;
   ApartmentBuilder* b_;
   double H_ = 2.6, z_ = 0;
@@ -338,27 +343,101 @@ void TableWithChairs(RoomFurnisher* f, double wmin, double wmax, double dmin, do
 int Sofa(RoomFurnisher* f, Pose* pose, double* depth) {
   Rng* r = f->rng();
   const double w = r->Uniform(1.6, 2.4), d = r->Uniform(0.85, 0.95), seat = 0.43, back = r->Uniform(0.78, 0.9);
+  // Shape variety: a corner sofa (a chaise of the same seat height along one end, reaching forward) and
+  // seat cushions with gaps between them.
+  const bool corner = f->Maybe(0.45);
+  const double wide = corner ? w + r->Uniform(0.0, 0.8) : w;
+  const double chaise = corner ? r->Uniform(0.6, 1.6) : 0.0, chaise_w = corner ? r->Uniform(0.75, 1.0) : 0.0;
+  const int chaise_side = corner && r->Bernoulli(0.5) ? 1 : -1;
+  const bool cushions = f->Maybe(0.6);
+  const double D = d + chaise;
   Pose p;
   std::vector<int> sides = {0, 1, 2, 3};
-  if (!f->PlaceAgainstWall(w, d, back, sides, 1.0, &p)) return -1;
+  if (!f->PlaceAgainstWall(wide, D, back, sides, 1.0, &p)) return -1;
   ApartmentBuilder* b = f->b();
   const int id = b->Begin(kSofa, f->room(), p);
   const Rgb8 c = Vary(r->Pick(kFabric), r, 20);
-  const double arm = 0.15;
-  b->Box(-w / 2 + arm, -d / 2 + 0.2, 0, w / 2 - arm, d / 2, seat, c, true);
-  b->Box(-w / 2, -d / 2, 0, w / 2, -d / 2 + 0.2, back, c, true);
-  b->Box(-w / 2, -d / 2 + 0.2, 0, -w / 2 + arm, d / 2, 0.6, c, true);
-  b->Box(w / 2 - arm, -d / 2 + 0.2, 0, w / 2, d / 2, 0.6, c, true);
+  const double arm = 0.15, y0 = -D / 2, hw = wide / 2;
+  const double base = cushions ? seat - 0.12 : seat;
+  b->Box(-hw + arm, y0 + 0.2, 0, hw - arm, y0 + d, base, c, true);
+  b->Box(-hw, y0, 0, hw, y0 + 0.2, back, c, true);
+  b->Box(-hw, y0 + 0.2, 0, -hw + arm, y0 + d, 0.6, c, true);
+  b->Box(hw - arm, y0 + 0.2, 0, hw, y0 + d, 0.6, c, true);
+  if (corner) {  // The chaise: seat and an arm along its outer side, no back.
+    const double x0 = chaise_side > 0 ? hw - chaise_w : -hw, x1 = chaise_side > 0 ? hw : -hw + chaise_w;
+    const double ax0 = chaise_side > 0 ? x1 - arm : x0, ax1 = chaise_side > 0 ? x1 : x0 + arm;
+    b->Box(x0, y0 + d, 0, x1, D / 2, base, c, true);
+    b->Box(ax0, y0 + d, 0, ax1, D / 2, 0.6, c, true);
+  }
+  if (cushions) {  // Seat cushions, 2-4 of them, with 2 cm gaps, slightly lighter or darker.
+    const Rgb8 cc = Vary(c, r, 12);
+    const int n = r->UniformInt(2, 4);
+    const double x0 = -hw + arm, step = (wide - 2 * arm) / n;
+    for (int i = 0; i < n; ++i) b->Box(x0 + i * step + 0.01, y0 + 0.22, base, x0 + (i + 1) * step - 0.01, y0 + d, seat, cc);
+    if (corner) {
+      const double cx0 = chaise_side > 0 ? hw - chaise_w : -hw + arm, cx1 = chaise_side > 0 ? hw - arm : -hw + chaise_w;
+      b->Box(cx0 + 0.01, y0 + d + 0.01, base, cx1 - 0.01, D / 2, seat, cc);
+    }
+    for (int i = 0; i < n; ++i)  // Back cushions leaning on the back.
+      b->Box(x0 + i * step + 0.02, y0 + 0.2, seat, x0 + (i + 1) * step - 0.02, y0 + 0.34, back - 0.05, cc);
+  }
   Finish(f);
   for (int i = 0, n = r->UniformInt(0, 2); i < n; ++i) {
-    const double cx = (i == 0 ? -1 : 1) * (w / 2 - arm - 0.3);
+    const double cx = (i == 0 ? -1 : 1) * (hw - arm - 0.3);
     b->Begin(kPillow, f->room(), p, id);
-    b->Box(cx - 0.22, -d / 2 + 0.2, seat, cx + 0.22, -d / 2 + 0.35, seat + 0.4, Vary(r->Pick(kBright), r));
+    const double py = y0 + (cushions ? 0.35 : 0.2);  // In front of the back cushions.
+    b->Box(cx - 0.22, py, seat, cx + 0.22, py + 0.15, seat + 0.4, Vary(r->Pick(kBright), r));
     b->End();
   }
   *pose = p;
-  *depth = d;
+  *depth = D;
   return id;
+}
+
+// Shape variety: a bar table (high and narrow, on legs or on a solid panel), against a wall or free in the
+// room, with a stool or two (chairs without backs).
+void BarTable(RoomFurnisher* f) {
+  Rng* r = f->rng();
+  const double w = r->Uniform(1.0, 2.6), d = r->Uniform(0.4, 0.65), h = r->Uniform(0.9, 1.15);
+  Pose p;
+  const bool free_standing = r->Bernoulli(0.5);
+  if (free_standing ? !f->PlaceFree(w, d, h, 0.5, false, &p) : !f->PlaceAgainstWall(w, d, h, {}, 0.8, &p)) return;
+  const Rgb8 c = Vary(r->Pick(kWood), r);
+  if (r->Bernoulli(0.5)) {
+    Table(f, p, w, d, h, kTable, c);
+  } else {
+    ApartmentBuilder* b = f->b();
+    const int id = b->Begin(kTable, f->room(), p);
+    b->Box(-w / 2, -d / 2, h - 0.04, w / 2, d / 2, h, c);
+    b->Box(-w / 2 + 0.1, -0.04, 0, w / 2 - 0.1, 0.04, h - 0.04, Vary(c, r, 20), true);  // Panel.
+    Finish(f);
+    f->AddSupport(p, 0, 0, w / 2 - 0.05, d / 2 - 0.05, h, 0.4, id);
+  }
+  const Rgb8 sc = Vary(r->Pick(kWood), r);
+  for (int i = 0, n = r->UniformInt(0, 2); i < n; ++i) {
+    Pose s = p;
+    const Eigen::Vector2d c2 = p.ToWorld((i == 0 ? -0.25 : 0.25) * w, d / 2 + 0.3);
+    s.x = c2.x(), s.y = c2.y();
+    const double sw = 0.36, sh = h - r->Uniform(0.28, 0.35);
+    if (!f->Free(f->FootprintAt(s, sw, sw, 0, sh))) continue;
+    f->b()->Begin(kChair, f->room(), s);
+    f->b()->Box(-sw / 2, -sw / 2, sh - 0.05, sw / 2, sw / 2, sh, sc);
+    f->b()->Box(-0.03, -0.03, 0, 0.03, 0.03, sh - 0.05, Vary(kSteel, r), true);
+    f->b()->Box(-0.17, -0.17, 0, 0.17, 0.17, 0.02, Vary(kSteel, r), true);
+    Finish(f);
+  }
+}
+
+// Shape variety: a waste bin (ScanNet: garbage bin -> otherfurniture) against a wall.
+void Bin(RoomFurnisher* f) {
+  Rng* r = f->rng();
+  const double w = r->Uniform(0.22, 0.45), d = r->Uniform(0.22, 0.45), h = r->Uniform(0.27, 0.7);
+  Pose p;
+  if (!f->PlaceAgainstWall(w, d, h, {}, 0.2, &p, 0.0, 15)) return;
+  f->b()->Begin(kOtherFurniture, f->room(), p);
+  const Rgb8 c = r->Bernoulli(0.5) ? Vary(r->Pick(kBright), r, 30) : Vary(r->Bernoulli(0.5) ? kSteel : kBlack, r, 20);
+  f->b()->Box(-w / 2, -d / 2, 0, w / 2, d / 2, h, c, true);
+  Finish(f);
 }
 
 // Something hung on a wall at [z0, z1] above the floor: picture, mirror, towel, clothes on a hook.
@@ -508,8 +587,16 @@ void Desk(RoomFurnisher* f) {
   const Rgb8 c = Vary(r->Pick(kWood), r);
   const int id = b->Begin(kDesk, f->room(), p);
   b->Box(-w / 2, -d / 2, h - 0.03, w / 2, d / 2, h, c);
-  b->Box(-w / 2, -d / 2, 0, -w / 2 + 0.03, d / 2, h - 0.03, c, true);
-  b->Box(w / 2 - 0.03, -d / 2, 0, w / 2, d / 2, h - 0.03, c, true);
+  if (f->Maybe(0.5)) {  // Shape variety: a drawer pedestal on one side instead of a panel.
+    const double pw = r->Uniform(0.35, 0.45), side = r->Bernoulli(0.5) ? 1.0 : -1.0;
+    const double px0 = side > 0 ? w / 2 - pw : -w / 2, px1 = side > 0 ? w / 2 : -w / 2 + pw;
+    b->Box(px0, -d / 2, 0, px1, d / 2 - 0.02, h - 0.03, Vary(c, r, 12), true);
+    if (side > 0) b->Box(-w / 2, -d / 2, 0, -w / 2 + 0.03, d / 2, h - 0.03, c, true);
+    else b->Box(w / 2 - 0.03, -d / 2, 0, w / 2, d / 2, h - 0.03, c, true);
+  } else {
+    b->Box(-w / 2, -d / 2, 0, -w / 2 + 0.03, d / 2, h - 0.03, c, true);
+    b->Box(w / 2 - 0.03, -d / 2, 0, w / 2, d / 2, h - 0.03, c, true);
+  }
   Finish(f);
   // Monitor (ScanNet: monitor -> otherprop) at the back of the desk.
   const double mw = r->Uniform(0.5, 0.7);
@@ -540,6 +627,7 @@ void Bedroom(RoomFurnisher* f, bool child) {
   } else if (r->Bernoulli(0.25)) {
     Desk(f);
   }
+  if (f->Maybe(0.3)) Bin(f);
   Pictures(f, r->UniformInt(0, 2));
   WindowDressing(f, r->Bernoulli(0.5));
 }
@@ -608,6 +696,8 @@ void LivingRoom(RoomFurnisher* f, bool studio, bool open_kitchen) {
     if (r->Bernoulli(0.6)) Wardrobe(f);
     TableWithChairs(f, 0.7, 1.0, 0.6, 0.8, 2);
   }
+  if ((studio || open_kitchen) && f->Maybe(0.5)) BarTable(f);
+  if (f->Maybe(studio ? 0.6 : 0.3)) Bin(f);
   Pictures(f, r->UniformInt(1, 3));
   WindowDressing(f, r->Bernoulli(0.7));
 }
@@ -615,6 +705,9 @@ void LivingRoom(RoomFurnisher* f, bool studio, bool open_kitchen) {
 void Kitchen(RoomFurnisher* f, bool open_plan) {
   Counters(f, true);
   if (!open_plan) TableWithChairs(f, 0.7, 1.3, 0.6, 0.85, 4);
+  if (f->Maybe(0.35)) BarTable(f);
+  for (int i = 0; i < 2; ++i)
+    if (f->Maybe(0.5)) Bin(f);
   if (f->rng()->Bernoulli(0.3)) WindowDressing(f, false);
 }
 
@@ -672,6 +765,7 @@ void Bathroom(RoomFurnisher* f) {
       Finish(f);
     }
   }
+  if (f->Maybe(0.6)) Bin(f);
   for (int i = 0, n = r->UniformInt(1, 2); i < n; ++i)
     WallItem(f, kTowel, r->Uniform(0.3, 0.5), r->Uniform(0.4, 0.7), r->Uniform(0.8, 1.0), 0.05, Vary(r->Pick(kBright), r, 30));
   if (r->Bernoulli(0.6) && f->PlaceFree(0.6, 0.4, kFlatMat, 0, false, &p)) FloorMat(f, 0.6, 0.4, p);
@@ -682,6 +776,7 @@ void Office(RoomFurnisher* f) {
   ShelfUnit(f, f->rng()->Bernoulli(0.5) ? kBookshelf : kShelves);
   if (f->rng()->Bernoulli(0.5)) ShelfUnit(f, kShelves);
   if (f->rng()->Bernoulli(0.3)) Cabinet(f, 0.4, 0.8, 0.5, 0.6, 0.75);
+  if (f->Maybe(0.6)) Bin(f);
   Pictures(f, f->rng()->UniformInt(0, 2));
   WindowDressing(f, false);
 }
@@ -787,11 +882,11 @@ void Props(RoomFurnisher* f, int count) {
 
 }  // namespace
 
-void FurnishApartment(const FloorPlan& plan, bool props, Rng* rng, ApartmentBuilder* builder) {
+void FurnishApartment(const FloorPlan& plan, bool props, bool variety, Rng* rng, ApartmentBuilder* builder) {
   const RoomTypeIds& t = RoomTypeIds::Get();
   for (int i = 0; i < int(plan.rooms.size()); ++i) {
     const PlanRoom& pr = plan.rooms[size_t(i)];
-    RoomFurnisher f(plan, i, rng, builder);
+    RoomFurnisher f(plan, i, variety, rng, builder);
     const bool open = pr.open_group >= 0;
     if (pr.type == t.living_room) LivingRoom(&f, pr.studio, open);
     else if (pr.type == t.kitchen) Kitchen(&f, open);

@@ -13,6 +13,15 @@ TEST(Config, AppliesKnownKeys) {
   EXPECT_DOUBLE_EQ(c.voxelize.voxel_size_m, 0.02);
 }
 
+TEST(Config, VoxelCrfModelChoice) {
+  PipelineConfig c;
+  EXPECT_EQ(c.semantic.crf_model, VoxelCrfModelChoice::kAuto);
+  ASSERT_TRUE(ParseConfig("semantic:\n  voxel_crf_model: cloud\n", "c.yaml", &c).ok());
+  EXPECT_EQ(c.semantic.crf_model, VoxelCrfModelChoice::kCloud);
+  const Status st = ParseConfig("semantic:\n  voxel_crf_model: clouds\n", "c.yaml", &c);
+  EXPECT_NE(st.message().find("Allowed: auto, mesh, cloud"), std::string::npos) << st.message();
+}
+
 TEST(Config, ErrorsNameTheKeyAndTheRange) {
   PipelineConfig c;
   Status st = ParseConfig("mapping:\n  voxel_sise_m: 0.02\n", "c.yaml", &c);

@@ -154,6 +154,27 @@ TEST(SceneFrame, UpsideDownWarnsAndKeepsTheInput) {
   }
 }
 
+// A fused cloud often has no ceiling (ScanNet's rarely do; the randomised training scans drop it in 40 %).
+// The floor, the largest horizontal plane at one end, still tells up from down, upright and turned over.
+TEST(SceneFrame, CloudWithoutCeilingIsUprightAndTurnedOverIsUpsideDown) {
+  const Scene full = CloudScene(Eigen::Isometry3d::Identity(), 150.0);
+  float top = -1e9f;
+  for (const auto& p : full.cloud.points) top = std::max(top, p.z());
+  Scene open = full;
+  open.cloud.points.clear();
+  for (const auto& p : full.cloud.points)
+    if (p.z() < top - 0.05f) open.cloud.points.push_back(p);
+  ASSERT_LT(open.cloud.points.size(), full.cloud.points.size());
+  const SceneFrame f = EstimateSceneFrame(open);
+  EXPECT_FALSE(f.upside_down);
+  EXPECT_LT(f.tilt_deg, 1.0);
+  EXPECT_TRUE(f.warnings.empty()) << f.warnings.front();
+  Eigen::Isometry3d flip = Eigen::Isometry3d::Identity();
+  flip.rotate(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));
+  TransformScene(flip, &open);
+  EXPECT_TRUE(EstimateSceneFrame(open).upside_down);
+}
+
 TEST(SceneFrame, ThirtyDegreeTiltIsLevelledWithAWarning) {
   const Eigen::Isometry3d pose = Pose(0.0, 30.0, Eigen::Vector3d::Zero());
   const SceneFrame f = EstimateSceneFrame(MeshScene(pose));

@@ -127,12 +127,56 @@ TEST(ObjectSegments, HoledAndDiagonalWallsAreWallsAndTouchingFurnitureComesApart
   EXPECT_EQ(SegmentAt(w, room.grid, 40, 40, 5), SegmentAt(w, room.grid, 100, 40, 14));
 }
 
+// A scan sees the room's free space, the front and sides of a fridge and a wardrobe standing against the
+// wall (their insides unknown) and, above them, the wall behind. Their fronts cover the wall band as a wall
+// does; they are furniture, and the walls beside and behind them, an interior wall with free space on both
+// sides and an exterior wall with nothing behind it stay walls.
+TEST(ObjectSegments, FurnitureFrontsAgainstAWallAreNotWall) {
+  Room room;
+  room.Clear(0, 0, 0.05, 6, 5, 2.5);                         // the room's free space
+  room.Fill(4.4, 4.3, 0.05, 5.1, 5.0, 1.8, /*shell=*/true);  // fridge, 0.7 m deep, flush with the north wall
+  room.Clear(4.45, 4.35, 0.10, 5.05, 4.95, 1.75);            // its inside: never seen
+  for (int z = 2; z < 35; ++z)
+    for (int y = 10 + 87; y < 10 + 99; ++y)
+      for (int x = 10 + 89; x < 10 + 101; ++x) room.grid.set_state(room.grid.Index(x, y, z), VoxelState::kUnknown);
+  room.Fill(0.5, 4.4, 0.05, 2.0, 5.0, 2.1, /*shell=*/true);  // wardrobe, 0.6 m deep, 1.5 m wide
+  for (int z = 2; z < 41; ++z)
+    for (int y = 10 + 89; y < 10 + 99; ++y)
+      for (int x = 10 + 11; x < 10 + 39; ++x) room.grid.set_state(room.grid.Index(x, y, z), VoxelState::kUnknown);
+  // An interior wall, 0.15 m thick, 2 m long, from the south wall, free on both sides.
+  room.Fill(3.0, 0, 0.05, 3.15, 2.0, 2.5);
+  const double floor_z = room.FloorZ();
+  const SegmentationResult r = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, SegmentOptions{});
+  EXPECT_EQ(r.structure[room.grid.Index(10 + 95, 10 + 86, 20)], 0);  // fridge front
+  EXPECT_EQ(r.structure[room.grid.Index(10 + 88, 10 + 92, 20)], 0);  // fridge side
+  EXPECT_EQ(r.structure[room.grid.Index(10 + 25, 10 + 88, 20)], 0);  // wardrobe front
+  EXPECT_EQ(r.structure[room.grid.Index(10 + 80, 10 + 100, 20)], 3); // north wall beside the fridge
+  EXPECT_EQ(r.structure[room.grid.Index(10 + 95, 10 + 100, 45)], 3); // north wall behind the fridge
+  EXPECT_EQ(r.structure[room.grid.Index(10 + 60, 10 + 20, 20)], 3);  // interior wall
+  EXPECT_EQ(r.structure[room.grid.Index(9, 50, 30)], 3);            // west wall (exterior)
+  const ObjectSegment* fridge = SegmentAt(r, room.grid, 10 + 95, 10 + 86, 20);
+  const ObjectSegment* wardrobe = SegmentAt(r, room.grid, 10 + 25, 10 + 88, 20);
+  ASSERT_TRUE(fridge && wardrobe);
+  EXPECT_NE(fridge, wardrobe);
+  EXPECT_NEAR(fridge->features[kSegTop], 1.75, 0.051);
+  // Without the test both fronts are wall.
+  SegmentOptions no_front;
+  no_front.front_max_depth_m = 0;
+  const SegmentationResult w = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, no_front);
+  EXPECT_EQ(w.structure[room.grid.Index(10 + 95, 10 + 86, 20)], 3);
+  EXPECT_EQ(w.structure[room.grid.Index(10 + 25, 10 + 88, 20)], 3);
+}
+
 TEST(ObjectSegments, RejectsBadOptions) {
   SegmentOptions o;
   o.wall_min_coverage = 0;
   std::string error;
   EXPECT_FALSE(o.Check(&error));
   EXPECT_NE(error.find("wall_min_coverage"), std::string::npos);
+  SegmentOptions f;
+  f.front_max_depth_m = 0.2;  // not beyond front_min_depth_m
+  EXPECT_FALSE(f.Check(&error));
+  EXPECT_NE(error.find("front_"), std::string::npos);
 }
 
 }  // namespace

@@ -20,9 +20,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Apartment Generate(uint64_t seed) {
+Apartment Generate(uint64_t seed, bool shape_variety = false) {
   ApartmentOptions o;
   o.seed = seed;
+  o.shape_variety = shape_variety;
   Result<Apartment> a = GenerateApartment(o);
   EXPECT_TRUE(a.ok()) << a.status().message();
   return std::move(a).value();
@@ -122,9 +123,8 @@ TEST(ApartmentGenerator, DimensionsAreRealistic) {
   EXPECT_TRUE(saw_studio_size);
 }
 
-TEST(ApartmentGenerator, NoFurnitureIntersectsWallsOrOtherFurniture) {
-  for (int seed = 0; seed < kSeeds; ++seed) {
-    const Apartment apt = Generate(uint64_t(seed));
+void ExpectNothingIntersects(const Apartment& apt, int seed) {
+  {
     const auto& parts = apt.parts;
     for (size_t i = 0; i < parts.size(); ++i) {
       if (parts[i].structural || parts[i].label == nyu40::kFloorMat) continue;  // Rugs lie under furniture by design.
@@ -149,6 +149,10 @@ TEST(ApartmentGenerator, NoFurnitureIntersectsWallsOrOtherFurniture) {
       EXPECT_LE(o.box.center.z() + o.box.size.z() / 2, apt.ceiling_z_m + 1e-6) << "seed " << seed;
     }
   }
+}
+
+TEST(ApartmentGenerator, NoFurnitureIntersectsWallsOrOtherFurniture) {
+  for (int seed = 0; seed < kSeeds; ++seed) ExpectNothingIntersects(Generate(uint64_t(seed)), seed);
 }
 
 // Flood fill on a 5 cm grid at knee height (below every window sill) from the first room; walls block,
@@ -210,6 +214,37 @@ TEST(ApartmentGenerator, EveryRoomReachableThroughDoors) {
     EXPECT_EQ(ReachableRooms(apt, false).size(), apt.rooms.size()) << "seed " << seed << ": walls cut a room off";
     EXPECT_EQ(ReachableRooms(apt, true).size(), apt.rooms.size()) << "seed " << seed << ": furniture blocks a door";
   }
+}
+
+// Shape variety (the randomised training and validation scans): corner sofas (a chaise makes the sofa
+// 1.45 m deep or more; plain sofas are at most 0.95 m), bar tables (0.9 m high or more; dining and coffee
+// tables are at most 0.77 m), waste bins (otherfurniture under 0.75 m with a footprint under 0.5 x 0.5 m;
+// the generator's other otherfurniture, wardrobes and washers, is larger), none of them without it; still
+// nothing intersects and every room is reachable.
+TEST(ApartmentGenerator, ShapeVarietyAddsCornerSofasBarTablesAndBins) {
+  auto count = [](const Apartment& apt, int* corner_sofas, int* bar_tables, int* bins) {
+    for (const ObjectGt& o : apt.objects) {
+      const Eigen::Vector3d& s = o.box.size;
+      if (o.label == nyu40::kSofa && std::min(s.x(), s.y()) >= 1.44) ++*corner_sofas;
+      if (o.label == nyu40::kTable && s.z() >= 0.89) ++*bar_tables;
+      if (o.label == nyu40::kOtherFurniture && s.z() <= 0.75 && s.x() <= 0.5 && s.y() <= 0.5) ++*bins;
+    }
+  };
+  int with[3] = {0, 0, 0}, without[3] = {0, 0, 0};
+  for (int seed = 0; seed < kSeeds; ++seed) {
+    const Apartment varied = Generate(uint64_t(seed), true);
+    count(varied, &with[0], &with[1], &with[2]);
+    count(Generate(uint64_t(seed)), &without[0], &without[1], &without[2]);
+    ExpectNothingIntersects(varied, seed);
+    const std::set<int> reached = ReachableRooms(varied, true);
+    EXPECT_EQ(reached.size(), varied.rooms.size()) << "seed " << seed;
+  }
+  EXPECT_GE(with[0], 3);
+  EXPECT_GE(with[1], 3);
+  EXPECT_GE(with[2], 10);
+  EXPECT_EQ(without[0], 0);
+  EXPECT_EQ(without[1], 0);
+  EXPECT_EQ(without[2], 0);
 }
 
 TEST(ApartmentGenerator, ClosedRoomsAreSealedWithoutDoors) {
