@@ -177,7 +177,7 @@ const std::vector<Field>& Fields() {
       Field m;
       m.section = "semantic";
       m.key = "voxel_crf_model";
-      m.doc = "Voxel-CRF weights: mesh (models/voxel_crf.txt), cloud (models/voxel_crf_cloud.txt, learned on simulated fused clouds, where the object segments count most), or auto (mesh for meshes, cloud for point clouds)";
+      m.doc = "Voxel-CRF weights: mesh (models/voxel_crf.txt, trusts the per-view classifiers), cloud (models/voxel_crf_cloud.txt, learned on simulated fused clouds: the object segments count most), or auto (mesh for meshes with one flat colour per surface, as the generator makes them; cloud for point clouds and scanned, textured or uncoloured meshes)";
       m.choices = {"auto", "mesh", "cloud"};
       m.get_str = [](const PipelineConfig& c) { return std::string(VoxelCrfModelChoiceName(c.semantic.crf_model)); };
       m.set_str = [](PipelineConfig& c, const std::string& v) { ParseVoxelCrfModelChoice(v, &c.semantic.crf_model); };

@@ -149,8 +149,12 @@ Status RunPipeline(const RunArgs& args) {
     SemanticStageOptions semantic_options = config.semantic;
     if (semantic_options.view_selection == ClassifyViewSelection::kAuto)
       semantic_options.view_selection = scene.is_mesh() ? ClassifyViewSelection::kCover : ClassifyViewSelection::kAll;
-    if (semantic_options.crf_model == VoxelCrfModelChoice::kAuto)
-      semantic_options.crf_model = scene.is_mesh() ? VoxelCrfModelChoice::kMesh : VoxelCrfModelChoice::kCloud;
+    if (semantic_options.crf_model == VoxelCrfModelChoice::kAuto) {
+      semantic_options.crf_model = FlatColouredMesh(scene.mesh) ? VoxelCrfModelChoice::kMesh : VoxelCrfModelChoice::kCloud;
+      SEMVOX_INFO("voxel CRF weights: " << VoxelCrfModelChoiceName(semantic_options.crf_model)
+                                        << (semantic_options.crf_model == VoxelCrfModelChoice::kMesh ? " (a flat-coloured mesh)"
+                                            : scene.is_mesh() ? " (a mesh with scanned, textured or no colours)" : " (a point cloud)"));
+    }
     Result<std::unique_ptr<SemanticStage>> st = SemanticStage::Create(map, renderer.value(), semantic_options, models_dir);
     if (!st.ok()) return st.status();
     semantic = std::move(st).value();

@@ -44,6 +44,16 @@ bool ParseVoxelCrfModelChoice(const std::string& name, VoxelCrfModelChoice* c) {
   return true;
 }
 
+bool FlatColouredMesh(const Mesh& mesh) {
+  if (mesh.faces.empty() || !mesh.has_vertex_colors() || mesh.has_texture()) return false;
+  size_t flat = 0;
+  for (const Eigen::Vector3i& f : mesh.faces) {
+    const Rgb8 a = mesh.vertex_colors[size_t(f[0])], b = mesh.vertex_colors[size_t(f[1])], c = mesh.vertex_colors[size_t(f[2])];
+    flat += a.r == b.r && a.g == b.g && a.b == b.b && a.r == c.r && a.g == c.g && a.b == c.b;
+  }
+  return 2 * flat >= mesh.faces.size();
+}
+
 bool ParseClassifyViewSelection(const std::string& name, ClassifyViewSelection* s) {
   if (name == "all") *s = ClassifyViewSelection::kAll;
   else if (name == "cover") *s = ClassifyViewSelection::kCover;

@@ -16,6 +16,7 @@
 #include <unordered_map>
 #include <vector>
 #include <nlohmann/json.hpp>
+#include "core/geometry.h"
 #include "core/status.h"
 #include "mapping/voxelizer.h"
 #include "render/view_renderer.h"
@@ -41,14 +42,21 @@ bool ParseClassifyViewSelection(const std::string& name, ClassifyViewSelection* 
 
 // Which Voxel-CRF weights are used.
 enum class VoxelCrfModelChoice {
-  kMesh,   // models/voxel_crf.txt: learned on flat and randomised scans alike (`--voxel-crf-style mixed`).
-  kCloud,  // models/voxel_crf_cloud.txt: learned on simulated fused clouds only (`--voxel-crf-style cloud`),
-           // where the per-view evidence is weakest and the object segments count most; falls back to
+  kMesh,   // models/voxel_crf.txt: trusts the per-view evidence, which is reliable only on what the per-view
+           // classifiers learned from: meshes with one flat colour per surface (the generator's style).
+  kCloud,  // models/voxel_crf_cloud.txt: learned on simulated fused clouds (`--voxel-crf-style cloud`); the
+           // per-view evidence gets almost no weight, the object segments count most. Falls back to
            // voxel_crf.txt with a warning when absent.
-  kAuto,   // kMesh for meshes, kCloud for point clouds (resolved by `semvox run` once the input is loaded).
+  kAuto,   // kMesh for flat-coloured meshes (FlatColouredMesh), kCloud for point clouds and every other mesh
+           // (textured, colour per vertex as scanned, or no colour); resolved by `semvox run`.
 };
 const char* VoxelCrfModelChoiceName(VoxelCrfModelChoice c);  // "mesh", "cloud", "auto"
 bool ParseVoxelCrfModelChoice(const std::string& name, VoxelCrfModelChoice* c);
+
+// A mesh coloured like the generator's: vertex colours, no texture, and at least half the faces with one
+// colour on all three vertices. A scanned mesh's colours vary from vertex to vertex; a textured or
+// uncoloured mesh gives the per-view classifiers no flat colours either.
+bool FlatColouredMesh(const Mesh& mesh);
 
 struct SemanticStageOptions {
   bool enabled = true;                  // Run the per-view classifiers and the Voxel-CRF.

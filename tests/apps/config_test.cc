@@ -1,4 +1,5 @@
 #include "apps/config.h"
+#include "apps/semantic_stage.h"
 
 #include <gtest/gtest.h>
 
@@ -20,6 +21,21 @@ TEST(Config, VoxelCrfModelChoice) {
   EXPECT_EQ(c.semantic.crf_model, VoxelCrfModelChoice::kCloud);
   const Status st = ParseConfig("semantic:\n  voxel_crf_model: clouds\n", "c.yaml", &c);
   EXPECT_NE(st.message().find("Allowed: auto, mesh, cloud"), std::string::npos) << st.message();
+}
+
+// `auto` gives the mesh weights only to meshes coloured like the generator's (one colour per surface).
+TEST(Config, FlatColouredMeshIsTheGeneratorsStyle) {
+  Mesh m;
+  for (int i = 0; i < 4; ++i) m.vertices.push_back(Eigen::Vector3f(float(i & 1), float(i >> 1), 0.0f));
+  m.faces = {Eigen::Vector3i(0, 1, 2), Eigen::Vector3i(1, 3, 2)};
+  EXPECT_FALSE(FlatColouredMesh(m));  // no colours
+  m.vertex_colors.assign(4, Rgb8{120, 90, 60});
+  EXPECT_TRUE(FlatColouredMesh(m));   // one flat colour
+  m.vertex_colors[3] = Rgb8{121, 90, 60};
+  EXPECT_TRUE(FlatColouredMesh(m));   // half the faces flat
+  m.vertex_colors[0] = Rgb8{119, 90, 60};
+  EXPECT_FALSE(FlatColouredMesh(m));  // colour per vertex, as scanned
+  EXPECT_FALSE(FlatColouredMesh(Mesh{}));
 }
 
 TEST(Config, ErrorsNameTheKeyAndTheRange) {
