@@ -317,7 +317,6 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
                 break;
               }
               if (wall[j] && k < k_min) break;  // The wall's own thickness, or along a wall.
-
             }
             if (hit) {
               front[i] = 1;
