@@ -147,8 +147,7 @@ Status RunPipeline(const RunArgs& args) {
   const std::string models_dir = args.models_dir.empty() ? DefaultModelsDir() : args.models_dir;
   if (config.semantic.enabled) {
     SemanticStageOptions semantic_options = config.semantic;
-    if (semantic_options.view_selection == ClassifyViewSelection::kAuto)
-      semantic_options.view_selection = scene.is_mesh() ? ClassifyViewSelection::kCover : ClassifyViewSelection::kAll;
+    semantic_options.view_selection = ResolveViewSelection(semantic_options.view_selection, scene);
     if (semantic_options.crf_model == VoxelCrfModelChoice::kAuto) {
       semantic_options.crf_model = FlatColouredMesh(scene.mesh) ? VoxelCrfModelChoice::kMesh : VoxelCrfModelChoice::kCloud;
       SEMVOX_INFO("voxel CRF weights: " << VoxelCrfModelChoiceName(semantic_options.crf_model)

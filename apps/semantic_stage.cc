@@ -32,6 +32,11 @@ const char* ClassifyViewSelectionName(ClassifyViewSelection s) {
   return s == ClassifyViewSelection::kAll ? "all" : s == ClassifyViewSelection::kCover ? "cover" : "auto";
 }
 
+ClassifyViewSelection ResolveViewSelection(ClassifyViewSelection s, const Scene& scene) {
+  if (s != ClassifyViewSelection::kAuto) return s;
+  return scene.is_mesh() ? ClassifyViewSelection::kCover : ClassifyViewSelection::kAll;
+}
+
 const char* VoxelCrfModelChoiceName(VoxelCrfModelChoice c) {
   return c == VoxelCrfModelChoice::kMesh ? "mesh" : c == VoxelCrfModelChoice::kCloud ? "cloud" : "auto";
 }

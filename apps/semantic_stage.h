@@ -39,6 +39,8 @@ enum class ClassifyViewSelection {
 };
 const char* ClassifyViewSelectionName(ClassifyViewSelection s);  // "all", "cover", "auto"
 bool ParseClassifyViewSelection(const std::string& name, ClassifyViewSelection* s);
+// `s`, with kAuto resolved for `scene` (kCover for a mesh, kAll for a point cloud).
+ClassifyViewSelection ResolveViewSelection(ClassifyViewSelection s, const Scene& scene);
 
 // Which Voxel-CRF weights are used.
 enum class VoxelCrfModelChoice {

@@ -78,8 +78,7 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
     if (!renderer.ok()) return renderer.status();
     it.renderer = std::make_unique<ViewRenderer>(std::move(renderer).value());
     SemanticStageOptions semantic_options = config.semantic;  // As `semvox run` resolves auto for this scan.
-    if (semantic_options.view_selection == ClassifyViewSelection::kAuto)
-      semantic_options.view_selection = it.scene.is_mesh() ? ClassifyViewSelection::kCover : ClassifyViewSelection::kAll;
+    semantic_options.view_selection = ResolveViewSelection(semantic_options.view_selection, it.scene);
     Result<std::unique_ptr<SemanticStage>> stage = SemanticStage::Create(it.map, *it.renderer, semantic_options, args.outdir);
     if (!stage.ok()) return stage.status();
     it.stage = std::move(stage).value();
