@@ -123,6 +123,8 @@ struct TrainArgs {
   int crf_holdout = 5;                      // Last training seeds kept out of the k-NN for CRF weight learning.
   bool voxel_crf_only = false;              // Train only the Voxel-CRF (needs the per-view models in outdir).
   bool segments_only = false;               // Train only the object-segment classifier.
+  bool room_shapes_only = false;            // Train only the room-shape model (real R2V plans).
+  std::string r2v_dir;                      // R2V plans (empty: ../shared/data/r2v beside the source tree).
   std::string segment_seeds = "0-99";       // Generator seeds the object-segment classifier learns on (randomised scans).
   std::string voxel_crf_seeds = "0-7";      // Generator seeds the Voxel-CRF weights are learned on.
   int voxel_crf_epochs = 12;                // Structural-SVM epochs.
@@ -145,6 +147,9 @@ Status RunTrainVoxelCrf(const TrainArgs& args);
 
 // `semvox train --segments`: only models/object_segments.knn (and object_segments_report.json).
 Status RunTrainSegments(const TrainArgs& args);
+// `semvox train --room-shapes`: only models/room_shape.json (and room_shape_report.json), from R2V plans
+// 0-299; plans 300-399 validate.
+Status RunTrainRoomShapes(const TrainArgs& args);
 // "A-B" or "A,B,..." -> seeds.
 Status ParseSeedList(const std::string& text, const char* flag, std::vector<uint64_t>* seeds);
 

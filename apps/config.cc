@@ -140,6 +140,8 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, min_split_area_m2, 0, 10000, "a room is split only off areas this large, m2"));
     f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, min_split_fraction, 0, 1, "... covering this fraction of the room"));
     f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, min_split_probability, 0, 1, "... whose mean marginal of their type is at least this"));
+    f.push_back(SEMVOX_DOUBLE_FIELD("room_types", room_types, shape_weight, 0, 10,
+                                    "weight of the room-shape evidence learnt from real plans (models/room_shape.json), 0 = off"));
     // ---- end room_types ----
     // render: viewpoints and virtual views (render/views.h).
     f.push_back(SEMVOX_INT_FIELD("render", render, width, 16, 8192, "view width, pixels"));

@@ -92,6 +92,9 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--crf-holdout", train.crf_holdout, "last training seeds used only to learn the CRF weights")->check(CLI::NonNegativeNumber);
   train_cmd->add_flag("--voxel-crf", train.voxel_crf_only, "train only the Voxel-CRF (per-view models must already be in the output directory)");
   train_cmd->add_flag("--segments", train.segments_only, "train only the object-segment classifier (object_segments.knn)");
+  train_cmd->add_flag("--room-shapes", train.room_shapes_only,
+                      "train only the room-shape model (room_shape.json) on real R2V plans 0-299, validated on 300-399");
+  train_cmd->add_option("--r2v-dir", train.r2v_dir, "R2V plans for --room-shapes (default ../shared/data/r2v)");
   train_cmd->add_option("--segment-seeds", train.segment_seeds, "generator seeds for the object-segment classifier, e.g. 0-99");
   train_cmd->add_option("--voxel-crf-seeds", train.voxel_crf_seeds, "generator seeds for the Voxel-CRF weights, e.g. 0-7");
   train_cmd->add_option("--voxel-crf-epochs", train.voxel_crf_epochs, "structural-SVM epochs of the Voxel-CRF")->check(CLI::PositiveNumber);
@@ -188,6 +191,7 @@ int main(int argc, char** argv) {
     if (*train_cmd)
       return Report(train.voxel_crf_only  ? semvox::RunTrainVoxelCrf(train)
                     : train.segments_only ? semvox::RunTrainSegments(train)
+                    : train.room_shapes_only ? semvox::RunTrainRoomShapes(train)
                                           : semvox::RunTrain(train));
     if (*report_cmd) return Report(semvox::RunReport(report));
     if (*remove_cmd) return Report(semvox::RunRemove(remove_args));

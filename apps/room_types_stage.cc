@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
+
+#include "core/log.h"
 
 #include "io/image_io.h"
 #include "rooms/room_export.h"
@@ -14,7 +17,18 @@ Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, co
   const std::string model_path = options.model_path.empty() ? DefaultRoomTypeModelPath() : options.model_path;
   Result<RoomTypeModel> model = LoadRoomTypeModel(model_path);
   if (!model.ok()) return model.status();
-  Result<RoomTypeResult> result = InferRoomTypes(plan, rooms, views, topview_labels, *model, options);
+  // The room-shape model (real plans); without it the rooms are typed without their shapes, with a warning.
+  std::optional<RoomShapeModel> shapes;
+  const std::string shape_path = options.shape_model_path.empty() ? DefaultRoomShapeModelPath() : options.shape_model_path;
+  if (options.shape_weight > 0) {
+    Result<RoomShapeModel> s = LoadRoomShapeModel(shape_path);
+    if (s.ok())
+      shapes = *s;
+    else
+      SEMVOX_WARN("room types: " << s.status().message() << "; rooms typed without their shapes");
+  }
+  Result<RoomTypeResult> result = InferRoomTypes(plan, rooms, views, topview_labels, *model, options, RoomTypeMethod::kGibbsCrf,
+                                                 shapes ? &*shapes : nullptr);
   if (!result.ok()) return result.status();
   std::vector<RoomDescription> described = DescribeRooms(plan, result->rooms);
   for (RoomDescription& d : described) {
@@ -36,6 +50,8 @@ Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, co
     j["method"] = "gibbs_crf";
     j["variant"] = options.variant.Name();
     j["model"] = model_path;
+    j["shape_model"] = shapes ? shape_path : std::string();
+    j["shape_weight"] = shapes ? options.shape_weight : 0.0;
     j["views"] = views.size();
     j["splits"] = result->splits;
     j["seconds"] = std::round(result->seconds * 1e3) / 1e3;
@@ -44,6 +60,16 @@ Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, co
       j["rooms"].push_back({{"id", d.id}, {"type_id", d.type_id}, {"probability", std::round(d.type_probability * 1e4) / 1e4},
                             {"second_type_id", d.second_type_id},
                             {"second_probability", std::round(d.second_type_probability * 1e4) / 1e4}});
+    // The shape the room-shape term saw, per input room.
+    for (size_t i = 0; i < j["rooms"].size(); ++i) {
+      const int id = j["rooms"][i]["id"].get<int>();
+      const int source = id >= 1 && id <= int(result->assignments.size()) ? result->assignments[size_t(id - 1)].source_room : 0;
+      if (source < 1 || source > int(result->shapes.size())) continue;
+      const RoomShape& s = result->shapes[size_t(source - 1)];
+      j["rooms"][i]["shape"] = {{"area_m2", std::round(s.area_m2 * 100) / 100}, {"aspect", std::round(s.aspect * 100) / 100},
+                                {"fill", std::round(s.fill * 100) / 100}, {"width_m", std::round(s.width_m * 100) / 100},
+                                {"connections", s.connections}};
+    }
   }
   return Status::Ok();
 }

@@ -239,6 +239,7 @@ Status RunPipeline(const RunArgs& args) {
                                                config.occupancy.band_max_above_floor_m);
       RoomTypeCrfOptions rt = config.room_types;
       if (rt.model_path.empty()) rt.model_path = models_dir + "/room_type_crf.json";
+      if (rt.shape_model_path.empty()) rt.shape_model_path = models_dir + "/room_shape.json";
       SEMVOX_RETURN_IF_ERROR(RunRoomTypeStage(plan, rooms, evidence, topview, rt, args.outdir, &types_summary, input_from_world));
     } else {
       SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(args.outdir, plan, rooms, false, input_from_world));

@@ -29,6 +29,7 @@
 #include "perception/room_evidence.h"
 #include "perception/training_data.h"
 #include "perception/view_classifier.h"
+#include "rooms/r2v_plan.h"
 #include "rooms/room_type_training.h"
 
 namespace semvox {
@@ -126,6 +127,27 @@ Result<nlohmann::json> TrainSegments(const TrainArgs& args, const std::vector<ui
 }
 
 }  // namespace
+
+Status RunTrainRoomShapes(const TrainArgs& args) {
+  const std::string dir = args.r2v_dir.empty() ? DefaultR2vDirectory() : args.r2v_dir;
+  std::error_code ec;
+  std::filesystem::create_directories(args.outdir, ec);
+  if (ec) return Status::InvalidInput(FileError(args.outdir, "cannot create the output directory", ec.message()));
+  RoomShapeTrainingReport r;
+  Result<RoomShapeModel> model = TrainRoomShapesFromR2v(dir, 300, &r);
+  if (!model.ok()) return model.status();
+  SEMVOX_RETURN_IF_ERROR(SaveRoomShapeModel(*model, args.outdir + "/room_shape.json"));
+  std::printf("%s", r.ToText().c_str());
+  nlohmann::json j;
+  j["provenance"] = model->provenance;
+  j["train_plans"] = r.train_plans, j["val_plans"] = r.val_plans, j["skipped_plans"] = r.skipped_plans;
+  j["train_rooms"] = r.train_rooms, j["val_rooms"] = r.val_rooms;
+  j["val_room_accuracy"] = std::round(1e4 * r.val_room_accuracy) / 1e4;
+  j["val_area_accuracy"] = std::round(1e4 * r.val_area_accuracy) / 1e4;
+  j["val_class_average"] = std::round(1e4 * r.val_class_average) / 1e4;
+  j["val_confusion_m2"] = r.confusion_m2;
+  return WriteFileAtomic(args.outdir + "/room_shape_report.json", j.dump(2) + "\n");
+}
 
 Status RunTrainSegments(const TrainArgs& args) {
   std::vector<uint64_t> val_seeds;

@@ -5,7 +5,7 @@
 //
 //   room_types_bench [--seeds 100-109] [--models DIR] [--sweeps N] [--seed S]
 //                    [--protocol split|loao] [--train-seeds 0-39] [--ssvm-epochs 30] [--fold-models DIR]
-//                    [--pred-topview PATTERN]
+//                    [--pred-topview PATTERN] [--shape-weight W]
 //
 // Per apartment: the plan is rasterised from the generator's ground truth and segmented (SegmentRooms,
 // default options); the views are the training views (room middles, 4 headings, 320x240, 60 degrees)
@@ -168,6 +168,7 @@ int main(int argc, char** argv) {
   uint64_t first = 100, last = 109, seed = 1, train_first = 0, train_last = 39;
   std::string models = std::string(SEMVOX_SOURCE_DIR) + "/models", protocol = "split", pred_pattern, fold_dir;
   int sweeps = 100, ssvm_epochs = SsvmOptions{}.epochs;
+  double shape_weight = RoomTypeCrfOptions{}.shape_weight;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (i + 1 >= argc) return std::fprintf(stderr, "room_types_bench: %s needs a value\n", a.c_str()), 2;
@@ -193,10 +194,13 @@ int main(int argc, char** argv) {
       fold_dir = v;
     } else if (a == "--pred-topview") {
       pred_pattern = v;
+    } else if (a == "--shape-weight") {
+      shape_weight = std::stod(v);
+      ok = shape_weight >= 0;
     } else {
       return std::fprintf(stderr,
                           "room_types_bench: unknown argument %s (hint: --seeds A-B --models DIR --sweeps N --seed S --protocol split|loao "
-                          "--train-seeds A-B --ssvm-epochs N --fold-models DIR --pred-topview OUTDIR_WITH_{seed})\n",
+                          "--train-seeds A-B --ssvm-epochs N --fold-models DIR --pred-topview OUTDIR_WITH_{seed} --shape-weight W)\n",
                           a.c_str()),
              2;
     }
@@ -237,6 +241,13 @@ int main(int argc, char** argv) {
   RoomTypeCrfOptions options;
   options.sample_sweeps = sweeps;
   options.seed = seed;
+  options.shape_weight = shape_weight;
+  std::optional<RoomShapeModel> shape_model;
+  if (shape_weight > 0) {
+    Result<RoomShapeModel> sm = LoadRoomShapeModel(models + "/room_shape.json");
+    if (!sm.ok()) return std::fprintf(stderr, "room_types_bench: %s\n", sm.status().message().c_str()), 1;
+    shape_model = *sm;
+  }
   const auto t_start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(); };
 
@@ -371,7 +382,8 @@ int main(int argc, char** argv) {
               if (const int n = g->node_of_pixel[i]; n >= 0 && g->covered[size_t(n)])
                 predicted.data[i] = uint16_t(std::max_element(g->scene[size_t(n)].begin(), g->scene[size_t(n)].end()) - g->scene[size_t(n)].begin() + 1);
           } else {
-            Result<RoomTypeResult> r = InferRoomTypes(scene.plan, scene.rooms, proto.views, *topview, proto.model, options, m.method);
+            Result<RoomTypeResult> r = InferRoomTypes(scene.plan, scene.rooms, proto.views, *topview, proto.model, options, m.method,
+                                                      shape_model ? &*shape_model : nullptr);
             if (!r.ok()) return std::fprintf(stderr, "room_types_bench: %s\n", r.status().message().c_str()), 1;
             predicted = r->pixel_types;
             if (proto.name == "split" && top_name == "gt" && mi == default_index) {

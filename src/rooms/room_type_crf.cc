@@ -214,6 +214,7 @@ bool RoomTypeCrfOptions::Check(std::string* error) const {
     return fail("min_split_area_m2 = " + std::to_string(min_split_area_m2) + ". Violated constraint: min_split_area_m2 >= 0");
   if (!(min_split_fraction >= 0 && min_split_fraction <= 1))
     return fail("min_split_fraction = " + std::to_string(min_split_fraction) + ". Violated constraint: 0 <= min_split_fraction <= 1");
+  if (!(shape_weight >= 0)) return fail("shape_weight = " + std::to_string(shape_weight) + ". Violated constraint: shape_weight >= 0");
   if (!(min_split_probability >= 0 && min_split_probability <= 1))
     return fail("min_split_probability = " + std::to_string(min_split_probability) +
                 ". Violated constraint: 0 <= min_split_probability <= 1");
@@ -404,6 +405,7 @@ double RoomTypeEnergy::Unary(int i, int y) const {
   double u = weights.scene * Scene(i, y);
   if (variant.objects)
     for (int g = 0; g < kNumObjectGroups; ++g) u += weights.objects[size_t(g)] * Object(i, g, y);
+  if (!graph->shape.empty()) u += options.shape_weight * graph->shape[size_t(i)][size_t(y)];
   return u;
 }
 
@@ -650,12 +652,28 @@ RoomTypeResult AssignRoomTypes(const RoomTypeGraph& graph, const RoomSegmentatio
   return out;
 }
 
+std::vector<RoomShape> SetRoomShapeEvidence(const RoomSegmentation& rooms, const FloorPlan& plan, const RoomShapeModel& shapes,
+                                            RoomTypeGraph* graph) {
+  std::vector<RoomShape> measured = MeasureRoomShapes(rooms.room_extent_ids, rooms.num_rooms, plan.resolution_m);
+  std::vector<Dist> ratio(measured.size());
+  for (size_t r = 0; r < measured.size(); ++r) ratio[r] = LogLikelihoodRatios(shapes, measured[r]);
+  graph->shape.assign(graph->segment.size(), Dist{});
+  for (size_t i = 0; i < graph->segment.size(); ++i) {
+    const int g = graph->segment[i];
+    if (g >= 1 && size_t(g) <= ratio.size()) graph->shape[i] = ratio[size_t(g - 1)];
+  }
+  return measured;
+}
+
 Result<RoomTypeResult> InferRoomTypes(const FloorPlan& plan, const RoomSegmentation& rooms,
                                       const std::vector<ViewRoomEvidence>& views, const Image<uint16_t>& topview_labels,
-                                      const RoomTypeModel& model, const RoomTypeCrfOptions& options, RoomTypeMethod method) {
+                                      const RoomTypeModel& model, const RoomTypeCrfOptions& options, RoomTypeMethod method,
+                                      const RoomShapeModel* shapes) {
   const auto t0 = std::chrono::steady_clock::now();
   Result<RoomTypeGraph> graph = BuildRoomTypeGraph(plan, rooms, views, topview_labels, model, options);
   if (!graph.ok()) return graph.status();
+  std::vector<RoomShape> measured;
+  if (shapes) measured = SetRoomShapeEvidence(rooms, plan, *shapes, &*graph);
   std::vector<Dist> marginals;
   switch (method) {
     case RoomTypeMethod::kMajorityVoting:
@@ -671,6 +689,7 @@ Result<RoomTypeResult> InferRoomTypes(const FloorPlan& plan, const RoomSegmentat
     }
   }
   RoomTypeResult r = AssignRoomTypes(*graph, rooms, plan, std::move(marginals), options);
+  r.shapes = std::move(measured);
   r.seconds = Seconds(t0);
   return r;
 }

@@ -42,6 +42,7 @@
 #include "core/status.h"
 #include "rooms/floor_plan.h"
 #include "rooms/room_segmentation.h"
+#include "rooms/room_shape.h"
 
 namespace semvox {
 
@@ -119,6 +120,7 @@ std::string DefaultRoomTypeModelPath();
 struct RoomTypeCrfOptions {
   RoomTypeVariant variant;              // Terms of Eq. 1 (default: conf + gauss + obj, the paper's best).
   std::string model_path;               // Model file; empty = DefaultRoomTypeModelPath().
+  std::string shape_model_path;         // Room-shape model; empty = DefaultRoomShapeModelPath().
   double cell_size_m = 0.25;            // CRF node size, metres. > 0.
   double max_pair_distance_m = 3.0;     // Homogeneity pairs up to this far apart, metres. > 0.
   double gauss_sigma_m = 1.0;           // phi_gauss kernel width, metres. > 0.
@@ -132,6 +134,10 @@ struct RoomTypeCrfOptions {
   double min_split_area_m2 = 4.0;       // A room is split only off areas this large, m². >= 0.
   double min_split_fraction = 0.25;     // ... covering this fraction of the room, [0, 1].
   double min_split_probability = 0.5;   // ... whose mean marginal of their type is at least this. [0, 1].
+  // Room shapes (room_shape.h): every node's unary gains shape_weight x its room's log-likelihood ratios
+  // under the room-shape model learnt from real plans (phi_shape, next to the scene and object terms).
+  // 0 = off. >= 0.
+  double shape_weight = 0.5;
 
   bool Check(std::string* error) const;
 };
@@ -152,6 +158,8 @@ struct RoomTypeGraph {
   // Neighbours within max_pair_distance_m (both directions), with the distance.
   std::vector<std::vector<std::pair<int, float>>> neighbours;
   double pair_normaliser = 1;         // Expected neighbour count (the pair sum is divided by it).
+  // phi_shape per node: its room's log-likelihood ratios (room_shape.h); empty when no shape model is used.
+  std::vector<std::array<double, kRoomTypeLabels>> shape;
 };
 
 // Per pixel: how many of the views' cones cover it (2D ray casting on the plan; walls and unknown cells stop
@@ -170,7 +178,7 @@ struct RoomTypeEnergy {
   RoomTypeVariant variant;
   RoomTypeWeights weights;
   RoomTypeCrfOptions options;
-  // Feature vector entries: [scene, obj1..4, hom].
+  // Feature vector entries: [scene, obj1..4, hom]; the shape term (options.shape_weight) is fixed, not learnt.
   double Scene(int i, int y) const;
   double Object(int i, int g, int y) const;
   double Unary(int i, int y) const;
@@ -212,6 +220,7 @@ struct RoomTypeResult {
   std::vector<std::array<double, kRoomTypeLabels>> node_marginals;
   int splits = 0;
   double seconds = 0;
+  std::vector<RoomShape> shapes;  // Per input room (index = id - 1) when the shape term ran.
 };
 
 enum class RoomTypeMethod { kGibbsCrf, kMajorityVoting, kDenseCrf };
@@ -220,11 +229,16 @@ enum class RoomTypeMethod { kGibbsCrf, kMajorityVoting, kDenseCrf };
 RoomTypeResult AssignRoomTypes(const RoomTypeGraph& graph, const RoomSegmentation& rooms, const FloorPlan& plan,
                                std::vector<std::array<double, kRoomTypeLabels>> marginals, const RoomTypeCrfOptions& options);
 
-// The whole stage: graph, inference with `method`, room assignment.
+// Sets graph->shape from the shapes of rooms 1..rooms.num_rooms (room_extent_ids; rooms that touch there are
+// connected) and returns those shapes.
+std::vector<RoomShape> SetRoomShapeEvidence(const RoomSegmentation& rooms, const FloorPlan& plan, const RoomShapeModel& shapes,
+                                            RoomTypeGraph* graph);
+
+// The whole stage: graph, inference with `method`, the room shapes when `shapes` is given, room assignment.
 Result<RoomTypeResult> InferRoomTypes(const FloorPlan& plan, const RoomSegmentation& rooms,
                                       const std::vector<ViewRoomEvidence>& views, const Image<uint16_t>& topview_labels,
                                       const RoomTypeModel& model, const RoomTypeCrfOptions& options,
-                                      RoomTypeMethod method = RoomTypeMethod::kGibbsCrf);
+                                      RoomTypeMethod method = RoomTypeMethod::kGibbsCrf, const RoomShapeModel* shapes = nullptr);
 
 // Training -----------------------------------------------------------------------------------------------
 

@@ -1,0 +1,227 @@
+#include "rooms/r2v_plan.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace semvox {
+
+int R2vRoomTypeId(const std::string& name) {
+  static const std::map<std::string, int> kTypes = {{"bathroom", 1}, {"restroom", 1}, {"bedroom", 2},  {"corridor", 4},
+                                                    {"kitchen", 6},  {"washing_room", 7}, {"living_room", 8}, {"stairs", 10},
+                                                    {"closet", 11},  {"PS", 11},       {"balcony", 12}};
+  const auto it = kTypes.find(name);
+  return it == kTypes.end() ? 0 : it->second;
+}
+
+bool IsR2vRoomLabel(const std::string& name) {
+  return R2vRoomTypeId(name) > 0 || name == "entrance" || name == "special";
+}
+
+Result<R2vPlan> ReadR2vPlan(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Status::InvalidInput(FileError(path, "cannot be read", "check the path"));
+  R2vPlan plan;
+  std::string line;
+  std::vector<double> door_lengths;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    R2vItem it;
+    if (!(ls >> it.x0 >> it.y0 >> it.x1 >> it.y1 >> it.category)) continue;
+    const bool finite = std::isfinite(it.x0) && std::isfinite(it.y0) && std::isfinite(it.x1) && std::isfinite(it.y1);
+    if (!finite || std::min({it.x0, it.y0, it.x1, it.y1}) < 0 || std::max({it.x0, it.y0, it.x1, it.y1}) > 1e4) continue;
+    if (it.category == "door") door_lengths.push_back(std::hypot(it.x1 - it.x0, it.y1 - it.y0));
+    plan.items.push_back(it);
+  }
+  if (plan.items.empty())
+    return Status::InvalidInput(FileError(path, "no line of the form `x0 y0 x1 y1 category ...`: not an R2V plan",
+                                          "pass a plan_*.txt of ../shared/data/r2v"));
+  std::sort(door_lengths.begin(), door_lengths.end());
+  if (door_lengths.empty() || door_lengths[door_lengths.size() / 2] < 1)
+    return Status::InvalidInput(FileError(path, "no door, so no scale (the median door is taken as 0.8 m)",
+                                          "add the plan's doors as `door` lines"));
+  plan.doors = int(door_lengths.size());
+  plan.metres_per_unit = 0.8 / door_lengths[door_lengths.size() / 2];
+  return plan;
+}
+
+R2vRooms RasteriseR2vRooms(const R2vPlan& plan, double resolution_m) {
+  R2vRooms out;
+  out.resolution_m = resolution_m;
+  out.type_id.assign(1, 0);
+  out.connections.assign(1, {});
+  double max_x = 0, max_y = 0;
+  for (const R2vItem& it : plan.items) max_x = std::max({max_x, it.x0, it.x1}), max_y = std::max({max_y, it.y0, it.y1});
+  const double s = plan.metres_per_unit / resolution_m;  // Raster pixels per plan unit.
+  const int W = int(max_x * s) + 12, H = int(max_y * s) + 12;
+  if (!(s > 0) || W > 20000 || H > 20000) return out;
+  auto P = [&](double x, double y) { return cv::Point(int(std::lround(x * s)) + 5, int(std::lround(y * s)) + 5); };
+  cv::Mat1b barriers(H, W, uchar(0));
+  for (const R2vItem& it : plan.items)
+    if (it.category == "wall" || it.category == "door") cv::line(barriers, P(it.x0, it.y0), P(it.x1, it.y1), 255, 2);
+  cv::Mat1i region(H, W, 0);
+  for (const R2vItem& it : plan.items) {
+    if (!IsR2vRoomLabel(it.category)) continue;
+    const int type = R2vRoomTypeId(it.category);
+    const cv::Point c = P(0.5 * (it.x0 + it.x1), 0.5 * (it.y0 + it.y1));
+    if (c.x < 0 || c.y < 0 || c.x >= W || c.y >= H || barriers(c)) continue;
+    if (const int r = region(c)) {  // A second label in the same region: untyped when they disagree.
+      if (out.type_id[size_t(r)] != type) out.type_id[size_t(r)] = 0;
+      continue;
+    }
+    cv::Mat1b mask(H + 2, W + 2, uchar(0));
+    barriers.copyTo(mask(cv::Rect(1, 1, W, H)));
+    cv::Mat1b scratch = barriers.clone();
+    cv::floodFill(scratch, mask, c, 128, nullptr, 0, 0, 4 | (255 << 8) | cv::FLOODFILL_MASK_ONLY);
+    const cv::Mat1b filled = (mask(cv::Rect(1, 1, W, H)) == 255) & ~barriers;
+    bool border = false;
+    for (int x = 0; x < W && !border; ++x) border = filled(0, x) || filled(H - 1, x);
+    for (int y = 0; y < H && !border; ++y) border = filled(y, 0) || filled(y, W - 1);
+    if (border || out.type_id.size() >= 65535) continue;
+    out.type_id.push_back(type);
+    region.setTo(int(out.type_id.size() - 1), filled);
+  }
+  const size_t n = out.type_id.size();
+  std::vector<std::set<int>> joined(n);
+  for (const R2vItem& it : plan.items) {
+    if (it.category != "door") continue;
+    cv::Mat1b door(H, W, uchar(0));
+    cv::line(door, P(it.x0, it.y0), P(it.x1, it.y1), 255, 6);  // The door line and 2-3 px either side.
+    std::set<int> ids;
+    for (int y = 0; y < H; ++y) {
+      const uchar* d = door.ptr<uchar>(y);
+      const int* r = region.ptr<int>(y);
+      for (int x = 0; x < W; ++x)
+        if (d[x] && r[x]) ids.insert(r[x]);
+    }
+    for (int a : ids)
+      for (int b : ids)
+        if (a != b) joined[size_t(a)].insert(b);
+  }
+  out.connections.assign(n, {});
+  for (size_t r = 1; r < n; ++r) out.connections[r].assign(joined[r].begin(), joined[r].end());
+  out.ids = ImageU16(W, H, 1, 0);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) out.ids.at(x, y) = uint16_t(region(y, x));
+  return out;
+}
+
+std::vector<std::string> ListR2vPlans(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind("plan_", 0) == 0 && it->path().extension() == ".txt") files.push_back(it->path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::vector<R2vRoomSample> R2vRoomShapes(const std::vector<std::string>& files, int* skipped) {
+  std::vector<R2vRoomSample> out;
+  int bad = 0;
+  for (size_t f = 0; f < files.size(); ++f) {
+    Result<R2vPlan> plan = ReadR2vPlan(files[f]);
+    if (!plan.ok()) {
+      ++bad;
+      continue;
+    }
+    const R2vRooms rooms = RasteriseR2vRooms(*plan);
+    const int n = int(rooms.type_id.size()) - 1;
+    const std::vector<RoomShape> shapes = MeasureRoomShapes(rooms.ids, n, rooms.resolution_m, &rooms.connections);
+    for (int r = 1; r <= n; ++r)
+      if (rooms.type_id[size_t(r)] > 0 && shapes[size_t(r - 1)].area_m2 > 0)
+        out.push_back({{rooms.type_id[size_t(r)], shapes[size_t(r - 1)]}, int(f)});
+  }
+  if (skipped) *skipped = bad;
+  return out;
+}
+
+Result<RoomShapeModel> TrainRoomShapesFromR2v(const std::string& dir, int train_plans, RoomShapeTrainingReport* report) {
+  const std::vector<std::string> files = ListR2vPlans(dir);
+  if (files.empty())
+    return Status::InvalidInput(FileError(dir, "no plan_*.txt (R2V plans) found", "pass the r2v folder of ../shared/data"));
+  const size_t split = std::min(files.size(), size_t(std::max(train_plans, 1)));
+  const std::vector<std::string> train(files.begin(), files.begin() + long(split)), val(files.begin() + long(split), files.end());
+  RoomShapeTrainingReport r;
+  int skipped_train = 0, skipped_val = 0;
+  const std::vector<R2vRoomSample> train_rooms = R2vRoomShapes(train, &skipped_train);
+  const std::vector<R2vRoomSample> val_rooms = R2vRoomShapes(val, &skipped_val);
+  std::vector<RoomShapeSample> samples;
+  for (const R2vRoomSample& s : train_rooms) samples.push_back(s.sample);
+  RoomShapeModel model = TrainRoomShapeModel(samples);
+  r.train_plans = int(train.size()), r.val_plans = int(val.size()), r.skipped_plans = skipped_train + skipped_val;
+  r.train_rooms = int(train_rooms.size()), r.val_rooms = int(val_rooms.size());
+  std::ostringstream prov;
+  prov << "R2V plans 0-" << split - 1 << " of " << dir.substr(dir.find_last_of('/') + 1) << " (" << r.train_rooms
+       << " typed rooms, median door = 0.8 m)";
+  model.provenance = prov.str();
+  int right = 0;
+  double area = 0, area_right = 0;
+  for (const R2vRoomSample& s : val_rooms) {
+    const auto ratio = LogLikelihoodRatios(model, s.sample.shape, /*open_plan=*/false);
+    int best = -1;
+    for (int t = 0; t < kRoomShapeTypes; ++t)
+      if (model.types[size_t(t)].rooms > 0 && (best < 0 || ratio[size_t(t)] > ratio[size_t(best)])) best = t;
+    if (best < 0) continue;
+    const int truth = s.sample.type_id - 1;
+    const double a = s.sample.shape.area_m2;
+    r.confusion_m2[size_t(truth)][size_t(best)] += a;
+    right += best == truth, area += a, area_right += best == truth ? a : 0;
+  }
+  if (!val_rooms.empty()) r.val_room_accuracy = double(right) / double(val_rooms.size());
+  if (area > 0) r.val_area_accuracy = area_right / area;
+  double sum = 0;
+  int present = 0;
+  for (int t = 0; t < kRoomShapeTypes; ++t) {
+    double row = 0;
+    for (double v : r.confusion_m2[size_t(t)]) row += v;
+    if (row > 0) sum += r.confusion_m2[size_t(t)][size_t(t)] / row, ++present;
+  }
+  if (present) r.val_class_average = sum / present;
+  if (report) *report = r;
+  return model;
+}
+
+std::string RoomShapeTrainingReport::ToText() const {
+  static const char* kNames[kRoomShapeTypes] = {"bathroom", "bedroom", "childs_room", "corridor", "dining_room", "kitchen",
+                                                "laundry",  "living_room", "office", "staircase", "storage", "other"};
+  std::ostringstream o;
+  o.setf(std::ios::fixed);
+  o.precision(3);
+  o << "room shapes: " << train_rooms << " rooms of " << train_plans << " training plans, " << val_rooms << " rooms of "
+    << val_plans << " validation plans (" << skipped_plans << " plans skipped)\n";
+  o << "validation, shape alone: rooms " << val_room_accuracy << ", area (pixel) accuracy " << val_area_accuracy
+    << ", class average " << val_class_average << "\n";
+  o << "confusion (rows true, columns predicted, share of the row's area):\n             ";
+  for (int p = 0; p < kRoomShapeTypes; ++p) o << ' ' << std::string(kNames[p]).substr(0, 5);
+  o << "\n";
+  for (int t = 0; t < kRoomShapeTypes; ++t) {
+    double row = 0;
+    for (double v : confusion_m2[size_t(t)]) row += v;
+    if (row <= 0) continue;
+    o << "  " << kNames[t];
+    for (int u = int(std::string(kNames[t]).size()); u < 12; ++u) o << ' ';
+    for (int p = 0; p < kRoomShapeTypes; ++p) {
+      char cell[16];
+      const double v = confusion_m2[size_t(t)][size_t(p)] / row;
+      if (v > 0)
+        std::snprintf(cell, sizeof cell, " %5.2f", v);
+      else
+        std::snprintf(cell, sizeof cell, "     .");
+      o << cell;
+    }
+    o << "\n";
+  }
+  return o.str();
+}
+
+}  // namespace semvox
