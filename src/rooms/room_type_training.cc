@@ -13,6 +13,7 @@
 #include "core/file_util.h"
 #include "core/labels.h"
 #include "perception/room_evidence.h"
+#include "rooms/r2v_plan.h"
 #include "scenegen/apartment_io.h"
 
 namespace semvox {
@@ -25,15 +26,6 @@ bool InsideBox(const OrientedBox& b, double x, double y, double margin = 0) {
   const double dx = x - b.center.x(), dy = y - b.center.y();
   const double u = c * dx + s * dy, v = -s * dx + c * dy;
   return std::fabs(u) <= b.size.x() / 2 + margin && std::fabs(v) <= b.size.y() / 2 + margin;
-}
-
-// room_types.tsv r2v_names -> type id.
-int R2vRoomType(const std::string& name) {
-  static const std::map<std::string, int> kTypes = {{"bathroom", 1}, {"restroom", 1}, {"bedroom", 2},  {"corridor", 4},
-                                                    {"kitchen", 6},  {"washing_room", 7}, {"living_room", 8}, {"stairs", 10},
-                                                    {"closet", 11},  {"PS", 11},       {"balcony", 12}};
-  const auto it = kTypes.find(name);
-  return it == kTypes.end() ? 0 : it->second;
 }
 
 int R2vFixtureLabel(const std::string& name) {
@@ -132,14 +124,7 @@ ObjectRoomCounts CountApartmentObjects(const Apartment& a) {
 }
 
 Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int* plans_used) {
-  namespace fs = std::filesystem;
-  std::vector<std::string> files;
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (name.rfind("plan_", 0) == 0 && it->path().extension() == ".txt") files.push_back(it->path().string());
-  }
-  std::sort(files.begin(), files.end());
+  const std::vector<std::string> files = ListR2vPlans(dir);
   if (files.empty())
     return Status::InvalidInput(FileError(dir, "no plan_*.txt (R2V plans) found", "pass the r2v folder of ../shared/data"));
   ObjectRoomCounts counts;
@@ -173,7 +158,7 @@ Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int* plans_use
     cv::Mat1i region(H, W, 0);
     std::vector<int> region_type(1, 0);
     for (const Item& it : items) {
-      const int type = R2vRoomType(it.category);
+      const int type = R2vRoomTypeId(it.category);
       if (!type) continue;
       const cv::Point c = P(0.5 * (it.x0 + it.x1), 0.5 * (it.y0 + it.y1));
       if (c.x < 0 || c.y < 0 || c.x >= W || c.y >= H || barriers(c)) continue;
