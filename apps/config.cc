@@ -169,8 +169,8 @@ const std::vector<Field>& Fields() {
       Field sel;
       sel.section = "semantic";
       sel.key = "view_selection";
-      sel.doc = "classification views: cover (the fewest candidates that see each surface voxel min_views_per_voxel times, greedy set cover), all, or auto (cover for meshes, all for point clouds)";
-      sel.choices = {"auto", "cover", "all"};
+      sel.doc = "classification views: cover (the fewest candidates that see each surface voxel min_views_per_voxel times, greedy set cover), all, all_objects_on_cover (every view classified, the support / clutter stage on the cover's views only), or auto (cover for meshes, all_objects_on_cover for point clouds)";
+      sel.choices = {"auto", "cover", "all", "all_objects_on_cover"};
       sel.get_str = [](const PipelineConfig& c) { return std::string(ClassifyViewSelectionName(c.semantic.view_selection)); };
       sel.set_str = [](PipelineConfig& c, const std::string& v) { ParseClassifyViewSelection(v, &c.semantic.view_selection); };
       f.push_back(sel);

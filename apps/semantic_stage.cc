@@ -29,12 +29,15 @@ double Seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock
 }  // namespace
 
 const char* ClassifyViewSelectionName(ClassifyViewSelection s) {
-  return s == ClassifyViewSelection::kAll ? "all" : s == ClassifyViewSelection::kCover ? "cover" : "auto";
+  return s == ClassifyViewSelection::kAll                  ? "all"
+         : s == ClassifyViewSelection::kCover              ? "cover"
+         : s == ClassifyViewSelection::kAllObjectsOnCover ? "all_objects_on_cover"
+                                                           : "auto";
 }
 
 ClassifyViewSelection ResolveViewSelection(ClassifyViewSelection s, const Scene& scene) {
   if (s != ClassifyViewSelection::kAuto) return s;
-  return scene.is_mesh() ? ClassifyViewSelection::kCover : ClassifyViewSelection::kAll;
+  return scene.is_mesh() ? ClassifyViewSelection::kCover : ClassifyViewSelection::kAllObjectsOnCover;
 }
 
 const char* VoxelCrfModelChoiceName(VoxelCrfModelChoice c) {
@@ -62,6 +65,7 @@ bool FlatColouredMesh(const Mesh& mesh) {
 bool ParseClassifyViewSelection(const std::string& name, ClassifyViewSelection* s) {
   if (name == "all") *s = ClassifyViewSelection::kAll;
   else if (name == "cover") *s = ClassifyViewSelection::kCover;
+  else if (name == "all_objects_on_cover") *s = ClassifyViewSelection::kAllObjectsOnCover;
   else if (name == "auto") *s = ClassifyViewSelection::kAuto;
   else return false;
   return true;
@@ -120,6 +124,7 @@ struct SemanticStage::Impl {
   ViewSelection selection;  // Candidates and cover (kCover), or candidates only (kAll).
   double seconds_selection = 0;
   double seconds_classify = 0, seconds_depth = 0, seconds_solve = 0;
+  int hooked_views = 0;  // Classified views the view hook saw.
   const OnnxModels* onnx = nullptr;
   std::function<Status(const RenderedView&)> hook;
 };
@@ -211,7 +216,11 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
   const RenderOptions render{s.map->grid.resolution(), 100.0};
   s.selection = ViewSelection{};
   s.selection.candidates = poses.size();
-  if (s.options.view_selection == ClassifyViewSelection::kCover && !poses.empty()) {
+  // Per candidate: whether the view hook sees it (every classified view, or only the cover's).
+  std::vector<char> to_hook(poses.size(), 1);
+  const bool cover = s.options.view_selection == ClassifyViewSelection::kCover ||
+                     s.options.view_selection == ClassifyViewSelection::kAllObjectsOnCover;
+  if (cover && !poses.empty()) {
     // The views that add evidence: candidates the classifier would skip are left out of the cover.
     const auto ts = Clock::now();
     std::vector<Eigen::Isometry3d> world_from_camera;
@@ -223,11 +232,17 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
     for (size_t c = 0; c < vis.size(); ++c)
       if (vis[c].hit_fraction >= tv.min_hit_fraction && vis[c].mean_depth_m >= tv.min_mean_depth_m) seen[c] = std::move(vis[c].surface_ids);
     s.selection = SelectViewsBySetCover(seen, surface.size(), s.options.selection);
-    std::vector<Pose> chosen;
-    for (int c : s.selection.chosen) chosen.push_back(poses[size_t(c)]);
-    poses = std::move(chosen);
+    if (s.options.view_selection == ClassifyViewSelection::kCover) {
+      std::vector<Pose> chosen;
+      for (int c : s.selection.chosen) chosen.push_back(poses[size_t(c)]);
+      poses = std::move(chosen);
+      to_hook.assign(poses.size(), 1);
+    } else {
+      to_hook.assign(poses.size(), 0);
+      for (int c : s.selection.chosen) to_hook[size_t(c)] = 1;
+    }
     s.seconds_selection = Seconds(ts);
-    SEMVOX_INFO("view selection: " << poses.size() << " of " << s.selection.candidates << " candidate views cover "
+    SEMVOX_INFO("view selection: " << s.selection.chosen.size() << " of " << s.selection.candidates << " candidate views cover "
                                    << 100.0 * s.selection.coverage() << "% of " << s.selection.surface_voxels << " surface voxels "
                                    << s.options.selection.min_views_per_voxel << " times (candidates: "
                                    << 100.0 * s.selection.coverable() << "%), " << s.seconds_selection << " s");
@@ -302,7 +317,10 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
         continue;
       }
       s.acc->AddClassifiedView(slot.view, slot.superpixels.count > 0 ? &slot.superpixels.label : nullptr, slot.probabilities);
-      if (s.hook) SEMVOX_RETURN_IF_ERROR(s.hook(slot.view));
+      if (s.hook && to_hook[b0 + k]) {
+        SEMVOX_RETURN_IF_ERROR(s.hook(slot.view));
+        ++s.hooked_views;
+      }
       ClassifiedViewRoomEvidence r;
       r.position = poses[b0 + k].p;
       r.yaw_rad = poses[b0 + k].yaw * M_PI / 180.0;
@@ -446,9 +464,10 @@ nlohmann::ordered_json SemanticStage::Summary() const {
                                  {"candidates", s.selection.candidates},
                                  {"width", s.options.classify_width},
                                  {"height", s.options.classify_height}};
-  if (s.options.view_selection == ClassifyViewSelection::kCover) {
+  if (s.options.view_selection == ClassifyViewSelection::kCover || s.options.view_selection == ClassifyViewSelection::kAllObjectsOnCover) {
     const auto share = [&](size_t n) { return s.selection.surface_voxels ? double(n) / double(s.selection.surface_voxels) : 0.0; };
     sel["chosen"] = s.selection.chosen.size();
+    sel["hooked_views"] = s.hooked_views;  // Classified views the support / clutter stage saw.
     sel["min_views_per_voxel"] = s.options.selection.min_views_per_voxel;
     sel["max_incidence_deg"] = s.options.selection.max_incidence_deg;
     sel["surface_voxels"] = s.selection.surface_voxels;

@@ -23,6 +23,26 @@ TEST(Config, VoxelCrfModelChoice) {
   EXPECT_NE(st.message().find("Allowed: auto, mesh, cloud"), std::string::npos) << st.message();
 }
 
+// Classification views: `auto` is the cover for a mesh; for a point cloud every view is classified (the
+// room-type evidence needs them) and only the cover's views go to the support / clutter stage.
+TEST(Config, ViewSelectionAutoResolvesByInputKind) {
+  PipelineConfig c;
+  EXPECT_EQ(c.semantic.view_selection, ClassifyViewSelection::kAuto);
+  ASSERT_TRUE(ParseConfig("semantic:\n  view_selection: all_objects_on_cover\n", "c.yaml", &c).ok());
+  EXPECT_EQ(c.semantic.view_selection, ClassifyViewSelection::kAllObjectsOnCover);
+  EXPECT_STREQ(ClassifyViewSelectionName(c.semantic.view_selection), "all_objects_on_cover");
+  Scene mesh;
+  for (int i = 0; i < 3; ++i) mesh.mesh.vertices.push_back(Eigen::Vector3f(float(i & 1), float(i >> 1), 0.0f));
+  mesh.mesh.faces = {Eigen::Vector3i(0, 1, 2)};
+  Scene cloud;
+  cloud.mesh.vertices = mesh.mesh.vertices;
+  EXPECT_EQ(ResolveViewSelection(ClassifyViewSelection::kAuto, mesh), ClassifyViewSelection::kCover);
+  EXPECT_EQ(ResolveViewSelection(ClassifyViewSelection::kAuto, cloud), ClassifyViewSelection::kAllObjectsOnCover);
+  EXPECT_EQ(ResolveViewSelection(ClassifyViewSelection::kAll, cloud), ClassifyViewSelection::kAll);
+  const Status st = ParseConfig("semantic:\n  view_selection: some\n", "c.yaml", &c);
+  EXPECT_NE(st.message().find("all_objects_on_cover"), std::string::npos) << st.message();
+}
+
 // `auto` gives the mesh weights only to meshes coloured like the generator's (one colour per surface).
 TEST(Config, FlatColouredMeshIsTheGeneratorsStyle) {
   Mesh m;

@@ -86,6 +86,39 @@ TEST(SemanticCli, GeneratedApartmentIsLabelledAboveTheStatedFloors) {
   EXPECT_GE(s["semantic"]["iterations"].size(), 1u);
 }
 
+// semantic.view_selection: all_objects_on_cover classifies every view, as `all` does, so the labels and rooms
+// are the same byte for byte; only the cover's views go to the support / clutter stage.
+TEST(SemanticCli, ObjectsOnTheCoverKeepTheLabelsOfEveryView) {
+  testing::ScratchDir dir("semantic_cli_cover");
+  const std::string gt = dir.File("gt"), log = dir.File("log.txt");
+  ASSERT_EQ(RunSemvox("generate --seed 104 --set apartment.max_rooms=2 -o " + gt, log), 0) << testing::ReadText(log);
+  nlohmann::json summary[2];
+  const char* modes[2] = {"all", "all_objects_on_cover"};
+  for (int m = 0; m < 2; ++m) {
+    const std::string config = dir.File(std::string(modes[m]) + ".yaml"), out = dir.File(modes[m]);
+    {
+      std::ofstream c(config);
+      c << testing::ReadText(std::string(SEMVOX_SOURCE_DIR) + "/tests/data/semantic.yaml") << "  view_selection: " << modes[m] << "\n";
+    }
+    ASSERT_EQ(RunSemvox("run " + gt + "/mesh.ply -o " + out + " --config " + config, log), 0) << testing::ReadText(log);
+    std::ifstream sj(out + "/summary.json");
+    summary[m] = nlohmann::json::parse(sj);
+  }
+  for (const char* f : {"voxels.ply", "semantic_topview_labels.png", "rooms.geojson", "rooms.png"})
+    EXPECT_TRUE(testing::ReadText(dir.File("all") + "/" + f) == testing::ReadText(dir.File("all_objects_on_cover") + "/" + f))
+        << f << " differs";
+  const nlohmann::json& all = summary[0];
+  const nlohmann::json& cover = summary[1];
+  EXPECT_EQ(cover["semantic"]["view_selection"]["method"], "all_objects_on_cover");
+  const int classified = cover["semantic"]["classification_views"].get<int>();
+  EXPECT_EQ(classified, all["semantic"]["classification_views"].get<int>());
+  EXPECT_EQ(all["objects"]["views"].get<int>(), classified);
+  const int hooked = cover["semantic"]["view_selection"]["hooked_views"].get<int>();
+  EXPECT_EQ(cover["objects"]["views"].get<int>(), hooked);
+  EXPECT_GT(hooked, 0);
+  EXPECT_LT(hooked, classified);
+}
+
 // objects.enabled: false (docs/configuration.md) keeps the semantic outputs and drops the support / clutter
 // stage: none of its files, no "objects" in summary.json.
 TEST(SemanticCli, ObjectsSectionSwitchesTheSupportStageOff) {
