@@ -75,6 +75,9 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("mapping", voxelize, min_floor_to_ceiling_m, 0.5, 20, "min ceiling height above the floor, metres"));
     f.push_back(SEMVOX_INT_FIELD("mapping", voxelize, max_voxels, 1, 1e12, "refuse voxel grids larger than this"));
     f.push_back(SEMVOX_INT_FIELD("mapping", voxelize, cloud_normal_neighbors, 3, 100, "k for point-cloud normals"));
+    f.push_back(SEMVOX_INT_FIELD("mapping", voxelize, pocket_rounds, 0, 10,
+                                 "rounds of extra scan positions in unseen clear pockets (closets, WCs) the grid missed; 0 = off"));
+    f.push_back(SEMVOX_INT_FIELD("mapping", voxelize, max_pocket_positions, 1, 100000, "extra positions per round at most, largest pockets first"));
     f.push_back(SEMVOX_DOUBLE_FIELD("occupancy", occupancy, band_min_above_floor_m, -10, 10, "height band bottom above the floor, metres"));
     f.push_back(SEMVOX_DOUBLE_FIELD("occupancy", occupancy, band_max_above_floor_m, -10, 10, "height band top above the floor, metres"));
     // ---- rooms: floor plan and room segmentation (rooms/floor_plan.h, rooms/room_segmentation.h) ----

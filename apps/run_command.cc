@@ -130,7 +130,7 @@ Status RunPipeline(const RunArgs& args) {
   const auto counts = map.grid.CountStates();
   SEMVOX_INFO("voxelised at " << config.voxelize.voxel_size_m << " m: " << counts[2] << " occupied, " << counts[1]
                               << " free, " << counts[0] << " unknown; " << map.scan_positions.size()
-                              << " scan positions; floor z = " << map.floor_z << ", ceiling z = " << map.ceiling_z);
+                              << " scan positions (" << map.pocket_positions << " in pockets the grid missed); floor z = " << map.floor_z << ", ceiling z = " << map.ceiling_z);
 
   // ---- render stage (issue 4): viewpoints and virtual views -> views.json [, views/*.png] ----
   t0 = Clock::now();
@@ -320,6 +320,7 @@ Status RunPipeline(const RunArgs& args) {
     positions.push_back({p.x(), p.y(), p.z()});
   }
   s["scan_positions"] = positions;
+  s["pocket_positions"] = map.pocket_positions;  // The last ones of scan_positions.
   s["enclosed"] = map.enclosed;
   s["rays_cast"] = map.rays_cast;
   s["occupancy"] = {{"image", "occupancy.pgm"}, {"width", occ.image.width}, {"height", occ.image.height},

@@ -146,6 +146,8 @@ bool VoxelizeOptions::Check(std::string* error) const {
     return fail("horizontal_normal_deg", horizontal_normal_deg, "0 < horizontal_normal_deg < 90");
   if (max_voxels < 1) return fail("max_voxels", double(max_voxels), "max_voxels >= 1");
   if (cloud_normal_neighbors < 3) return fail("cloud_normal_neighbors", cloud_normal_neighbors, "cloud_normal_neighbors >= 3");
+  if (pocket_rounds < 0 || pocket_rounds > 10) return fail("pocket_rounds", pocket_rounds, "0 <= pocket_rounds <= 10");
+  if (max_pocket_positions < 1) return fail("max_pocket_positions", max_pocket_positions, "max_pocket_positions >= 1");
   return true;
 }
 
@@ -379,6 +381,108 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, co
       if (keep[k]) out.emplace_back(x0 + (k % nx) * spacing, y0 + (k / nx) * spacing, z);
     return out;
   };
+  // A position's floor and enclosure tests (as for the grid's).
+  auto floor_and_enclosure = [&](const Eigen::Vector3d& p) {
+    if (map.floor_found && DistanceToOccupied(grid, p, -Eigen::Vector3d::UnitZ(), z - box.min.z() + 2 * res) < 0) return false;
+    int hits = 0;
+    for (int d = 0; d < options.enclosure_directions; ++d) {
+      const double ang = 2.0 * M_PI * d / options.enclosure_directions;
+      hits += DistanceToOccupied(grid, p, Eigen::Vector3d(std::cos(ang), std::sin(ang), 0), options.max_range_m) >= 0;
+    }
+    return hits >= options.min_enclosed_fraction * options.enclosure_directions;
+  };
+  // Pockets: 4-connected regions of cells at scanner height that are clear of occupied voxels (within
+  // scan_clearance_m horizontally, in the layers scan_clearance_m above and below), still unknown, and next to
+  // seen free space; each gets one position at its cell farthest from the occupied ones. Largest regions
+  // first, ties by cell order.
+  auto pocket_positions = [&]() {
+    std::vector<Eigen::Vector3d> out;
+    const auto d = grid.dims();
+    const int cz = grid.CellOf(Eigen::Vector3d(box.min.x(), box.min.y(), z))[2];
+    if (cz < 0 || cz >= d[2]) return out;
+    const int band = std::max(1, int(std::ceil(options.scan_clearance_m / res)));
+    const size_t W = size_t(d[0]), H = size_t(d[1]);
+    // Chessboard distance (cells) to the nearest column with an occupied voxel in the band; the grid's
+    // border counts as occupied.
+    const int kFar = 1 << 20;
+    std::vector<int> dist(W * H, kFar);
+    tbb::parallel_for(size_t(0), H, [&](size_t y) {
+      for (size_t x = 0; x < W; ++x) {
+        bool occ = x == 0 || y == 0 || x + 1 == W || y + 1 == H;
+        for (int zz = std::max(0, cz - band); zz <= std::min(d[2] - 1, cz + band) && !occ; ++zz)
+          occ = grid.state(grid.Index(int(x), int(y), zz)) == VoxelState::kOccupied;
+        if (occ) dist[y * W + x] = 0;
+      }
+    });
+    for (size_t y = 0; y < H; ++y)
+      for (size_t x = 0; x < W; ++x) {
+        int& v = dist[y * W + x];
+        if (x > 0) v = std::min(v, dist[y * W + x - 1] + 1);
+        if (y > 0) {
+          v = std::min(v, dist[(y - 1) * W + x] + 1);
+          if (x > 0) v = std::min(v, dist[(y - 1) * W + x - 1] + 1);
+          if (x + 1 < W) v = std::min(v, dist[(y - 1) * W + x + 1] + 1);
+        }
+      }
+    for (size_t y = H; y-- > 0;)
+      for (size_t x = W; x-- > 0;) {
+        int& v = dist[y * W + x];
+        if (x + 1 < W) v = std::min(v, dist[y * W + x + 1] + 1);
+        if (y + 1 < H) {
+          v = std::min(v, dist[(y + 1) * W + x] + 1);
+          if (x + 1 < W) v = std::min(v, dist[(y + 1) * W + x + 1] + 1);
+          if (x > 0) v = std::min(v, dist[(y + 1) * W + x - 1] + 1);
+        }
+      }
+    // Clear: more than scan_clearance_m from every occupied column (the chessboard distance understates the
+    // Euclidean one, so this is conservative); unseen: the voxel at scanner height is still unknown.
+    const int min_cells = int(std::floor(options.scan_clearance_m / res)) + 1;
+    auto pocket = [&](size_t i) {
+      return dist[i] >= min_cells && grid.state(grid.Index(int(i % W), int(i / W), cz)) == VoxelState::kUnknown;
+    };
+    std::vector<int> component(W * H, -1);
+    struct Region {
+      size_t cells = 0, best = 0;
+      bool reached = false;  // It borders seen free space (a closet seen in part through its door), unlike
+                             // the sealed inside of a closed piece of furniture in a mesh.
+    };
+    std::vector<Region> regions;
+    std::vector<size_t> queue;
+    for (size_t i = 0; i < W * H; ++i) {
+      if (component[i] >= 0 || !pocket(i)) continue;
+      Region r;
+      r.best = i;
+      component[i] = int(regions.size());
+      queue.assign(1, i);
+      for (size_t head = 0; head < queue.size(); ++head) {
+        const size_t q = queue[head];
+        ++r.cells;
+        if (dist[q] > dist[r.best]) r.best = q;
+        const size_t qx = q % W, qy = q / W;
+        const size_t nb[4] = {qx > 0 ? q - 1 : q, qx + 1 < W ? q + 1 : q, qy > 0 ? q - W : q, qy + 1 < H ? q + W : q};
+        for (size_t n : nb) {
+          if (n == q) continue;
+          if (component[n] < 0 && pocket(n))
+            component[n] = int(regions.size()), queue.push_back(n);
+          else if (grid.state(grid.Index(int(n % W), int(n / W), cz)) == VoxelState::kFree)
+            r.reached = true;
+        }
+      }
+      regions.push_back(r);
+    }
+    std::vector<size_t> order(regions.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return regions[a].cells > regions[b].cells; });
+    for (size_t i : order) {
+      if (int(out.size()) >= options.max_pocket_positions) break;
+      if (!regions[i].reached) continue;
+      const size_t c = regions[i].best;
+      Eigen::Vector3d p = grid.CellCenter(int(c % W), int(c / W), cz);
+      p.z() = z;
+      if (floor_and_enclosure(p)) out.push_back(p);
+    }
+    return out;
+  };
   map.scan_positions = choose_positions(options.scan_spacing_m, true);
   if (map.scan_positions.empty()) map.scan_positions = choose_positions(0.5 * options.scan_spacing_m, true);
   if (map.scan_positions.empty()) {
@@ -392,6 +496,14 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, co
     SEMVOX_WARN(scene.source_path << ": no virtual scan position fits in the scanned space; all non-surface voxels "
                                      "stay unknown");
   map.rays_cast = CastFreeSpace(map.scan_positions, options.max_range_m, &grid, progress);
+  // Pockets the grid's positions did not see (only inside an enclosed interior).
+  for (int round = 0; round < options.pocket_rounds && map.enclosed && !map.scan_positions.empty(); ++round) {
+    const std::vector<Eigen::Vector3d> more = pocket_positions();
+    if (more.empty()) break;
+    map.rays_cast += CastFreeSpace(more, options.max_range_m, &grid, progress);
+    map.scan_positions.insert(map.scan_positions.end(), more.begin(), more.end());
+    map.pocket_positions += int(more.size());
+  }
   map.seconds_free_space = Seconds(t0);
   return map;
 }

@@ -35,6 +35,14 @@ struct VoxelizeOptions {
   size_t max_voxels = 400'000'000;     // Refuse grids with more voxels than this (memory guard).
   int cloud_normal_neighbors = 12;     // k for PCA normals of clouds without normals.
   bool free_space = true;              // false: surfaces, floor and ceiling only (no scan positions, no free voxels).
+  // Pockets: after the grid positions have cast their rays, every region at scanner height that is clear of
+  // surfaces by scan_clearance_m (a person 2 x scan_clearance_m wide fits), still unseen, and next to seen
+  // free space - a closet, a WC or a hall the 1 m grid missed, glimpsed through its door - gets a position at
+  // its most open cell (if it has a floor below and passes the enclosure test), and casts its rays; repeated
+  // up to pocket_rounds times. The sealed inside of a closed furniture mesh borders no free space and gets
+  // none. 0 = off. [0, 10].
+  int pocket_rounds = 3;
+  int max_pocket_positions = 64;       // New positions per round at most (the largest pockets first). >= 1.
 
   bool Check(std::string* error) const;
 };
@@ -45,7 +53,8 @@ struct VoxelMap {
   double floor_z = 0.0;     // Metres, input frame.
   bool ceiling_found = false;
   double ceiling_z = 0.0;
-  std::vector<Eigen::Vector3d> scan_positions;
+  std::vector<Eigen::Vector3d> scan_positions;  // The grid's, then the pockets'.
+  int pocket_positions = 0;  // Of scan_positions, how many were added for pockets (the last ones).
   bool enclosed = true;     // False when no candidate passed the enclosure test (degraded input).
   size_t rays_cast = 0;
   double seconds_surface = 0, seconds_floor = 0, seconds_free_space = 0;
