@@ -345,6 +345,18 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, co
   double z = map.floor_z + options.scan_height_m;
   if (map.ceiling_z - map.floor_z > 0.2 && z > map.ceiling_z - options.scan_clearance_m - res)
     z = 0.5 * (map.floor_z + map.ceiling_z);
+  // A position's tests: a surface below (the floor, or furniture on it; without a detected floor this cannot
+  // be required), and, with `require_enclosure`, enough horizontal rays that hit a surface (indoors).
+  auto floor_and_enclosure = [&](const Eigen::Vector3d& p, bool require_enclosure) {
+    if (map.floor_found && DistanceToOccupied(grid, p, -Eigen::Vector3d::UnitZ(), z - box.min.z() + 2 * res) < 0) return false;
+    if (!require_enclosure) return true;
+    int hits = 0;
+    for (int d = 0; d < options.enclosure_directions; ++d) {
+      const double ang = 2.0 * M_PI * d / options.enclosure_directions;
+      hits += DistanceToOccupied(grid, p, Eigen::Vector3d(std::cos(ang), std::sin(ang), 0), options.max_range_m) >= 0;
+    }
+    return hits >= options.min_enclosed_fraction * options.enclosure_directions;
+  };
   auto choose_positions = [&](double spacing, bool require_enclosure) {
     std::vector<Eigen::Vector3d> out;
     const int nx = std::max(1, int(std::floor((box.max.x() - box.min.x()) / spacing)) + 1);
@@ -364,32 +376,11 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, co
             const int x = c[0] + dx, y = c[1] + dy, zz = c[2] + dz;
             if (grid.Contains(x, y, zz) && grid.state(grid.Index(x, y, zz)) == VoxelState::kOccupied) return;
           }
-      // A surface below (the floor, or furniture on it); without a detected floor this cannot be required.
-      if (map.floor_found && DistanceToOccupied(grid, p, -Eigen::Vector3d::UnitZ(), z - box.min.z() + 2 * res) < 0)
-        return;
-      if (require_enclosure) {
-        int hits = 0;
-        for (int d = 0; d < options.enclosure_directions; ++d) {
-          const double ang = 2.0 * M_PI * d / options.enclosure_directions;
-          hits += DistanceToOccupied(grid, p, Eigen::Vector3d(std::cos(ang), std::sin(ang), 0), options.max_range_m) >= 0;
-        }
-        if (hits < options.min_enclosed_fraction * options.enclosure_directions) return;
-      }
-      keep[k] = 1;
+      if (floor_and_enclosure(p, require_enclosure)) keep[k] = 1;
     });
     for (int k = 0; k < nx * ny; ++k)
       if (keep[k]) out.emplace_back(x0 + (k % nx) * spacing, y0 + (k / nx) * spacing, z);
     return out;
-  };
-  // A position's floor and enclosure tests (as for the grid's).
-  auto floor_and_enclosure = [&](const Eigen::Vector3d& p) {
-    if (map.floor_found && DistanceToOccupied(grid, p, -Eigen::Vector3d::UnitZ(), z - box.min.z() + 2 * res) < 0) return false;
-    int hits = 0;
-    for (int d = 0; d < options.enclosure_directions; ++d) {
-      const double ang = 2.0 * M_PI * d / options.enclosure_directions;
-      hits += DistanceToOccupied(grid, p, Eigen::Vector3d(std::cos(ang), std::sin(ang), 0), options.max_range_m) >= 0;
-    }
-    return hits >= options.min_enclosed_fraction * options.enclosure_directions;
   };
   // Pockets: 4-connected regions of cells at scanner height that are clear of occupied voxels (within
   // scan_clearance_m horizontally, in the layers scan_clearance_m above and below), still unknown, and next to
@@ -479,7 +470,7 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, co
       const size_t c = regions[i].best;
       Eigen::Vector3d p = grid.CellCenter(int(c % W), int(c / W), cz);
       p.z() = z;
-      if (floor_and_enclosure(p)) out.push_back(p);
+      if (floor_and_enclosure(p, true)) out.push_back(p);
     }
     return out;
   };

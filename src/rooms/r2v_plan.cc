@@ -11,6 +11,8 @@
 #include <set>
 #include <sstream>
 
+#include "core/labels.h"
+
 namespace semvox {
 
 int R2vRoomTypeId(const std::string& name) {
@@ -92,13 +94,19 @@ R2vRooms RasteriseR2vRooms(const R2vPlan& plan, double resolution_m) {
   std::vector<std::set<int>> joined(n);
   for (const R2vItem& it : plan.items) {
     if (it.category != "door") continue;
-    cv::Mat1b door(H, W, uchar(0));
-    cv::line(door, P(it.x0, it.y0), P(it.x1, it.y1), 255, 6);  // The door line and 2-3 px either side.
+    // The door line and 2-3 px either side, drawn in its own bounding box (with a margin wider than the line).
+    const cv::Point a = P(it.x0, it.y0), b = P(it.x1, it.y1);
+    const cv::Rect box = cv::Rect(cv::Point(std::min(a.x, b.x) - 6, std::min(a.y, b.y) - 6),
+                                  cv::Point(std::max(a.x, b.x) + 7, std::max(a.y, b.y) + 7)) &
+                         cv::Rect(0, 0, W, H);
+    if (box.empty()) continue;
+    cv::Mat1b door(box.size(), uchar(0));
+    cv::line(door, a - box.tl(), b - box.tl(), 255, 6);
     std::set<int> ids;
-    for (int y = 0; y < H; ++y) {
+    for (int y = 0; y < box.height; ++y) {
       const uchar* d = door.ptr<uchar>(y);
-      const int* r = region.ptr<int>(y);
-      for (int x = 0; x < W; ++x)
+      const int* r = region.ptr<int>(y + box.y) + box.x;
+      for (int x = 0; x < box.width; ++x)
         if (d[x] && r[x]) ids.insert(r[x]);
     }
     for (int a : ids)
@@ -192,8 +200,7 @@ Result<RoomShapeModel> TrainRoomShapesFromR2v(const std::string& dir, int train_
 }
 
 std::string RoomShapeTrainingReport::ToText() const {
-  static const char* kNames[kRoomShapeTypes] = {"bathroom", "bedroom", "childs_room", "corridor", "dining_room", "kitchen",
-                                                "laundry",  "living_room", "office", "staircase", "storage", "other"};
+  auto name = [](int t) { return std::string(RoomTypes()[size_t(t + 1)].name); };
   std::ostringstream o;
   o.setf(std::ios::fixed);
   o.precision(3);
@@ -202,14 +209,14 @@ std::string RoomShapeTrainingReport::ToText() const {
   o << "validation, shape alone: rooms " << val_room_accuracy << ", area (pixel) accuracy " << val_area_accuracy
     << ", class average " << val_class_average << "\n";
   o << "confusion (rows true, columns predicted, share of the row's area):\n             ";
-  for (int p = 0; p < kRoomShapeTypes; ++p) o << ' ' << std::string(kNames[p]).substr(0, 5);
+  for (int p = 0; p < kRoomShapeTypes; ++p) o << ' ' << name(p).substr(0, 5);
   o << "\n";
   for (int t = 0; t < kRoomShapeTypes; ++t) {
     double row = 0;
     for (double v : confusion_m2[size_t(t)]) row += v;
     if (row <= 0) continue;
-    o << "  " << kNames[t];
-    for (int u = int(std::string(kNames[t]).size()); u < 12; ++u) o << ' ';
+    o << "  " << name(t);
+    for (int u = int(name(t).size()); u < 12; ++u) o << ' ';
     for (int p = 0; p < kRoomShapeTypes; ++p) {
       char cell[16];
       const double v = confusion_m2[size_t(t)][size_t(p)] / row;

@@ -58,6 +58,7 @@ std::vector<RoomShape> MeasureRoomShapes(const ImageU16& ids, int num_rooms, dou
   std::vector<double> count(out.size(), 0);
   std::vector<int> deepest(out.size(), 0);
   std::vector<std::set<int>> neighbours(out.size());
+  std::vector<std::vector<Eigen::Vector2d>> pixels(out.size());  // Per room, for its extents below.
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const int id = id_at(x, y);
@@ -65,6 +66,7 @@ std::vector<RoomShape> MeasureRoomShapes(const ImageU16& ids, int num_rooms, dou
       const size_t r = size_t(id - 1);
       const Eigen::Vector2d p(x, y);
       sum[r] += p, sum2[r] += p * p.transpose(), count[r] += 1;
+      pixels[r].push_back(p);
       deepest[r] = std::max(deepest[r], dist[size_t(y) * W + x]);
       for (const auto& [nx, ny] : {std::pair{x + 1, y}, std::pair{x, y + 1}}) {
         const int other = id_at(nx, ny);
@@ -79,13 +81,11 @@ std::vector<RoomShape> MeasureRoomShapes(const ImageU16& ids, int num_rooms, dou
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
     const Eigen::Vector2d major = eig.eigenvectors().col(1), minor = eig.eigenvectors().col(0);
     double a0 = 1e30, a1 = -1e30, b0 = 1e30, b1 = -1e30;
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        if (id_at(x, y) != int(r + 1)) continue;
-        const Eigen::Vector2d q = Eigen::Vector2d(x, y) - mean;
-        a0 = std::min(a0, q.dot(major)), a1 = std::max(a1, q.dot(major));
-        b0 = std::min(b0, q.dot(minor)), b1 = std::max(b1, q.dot(minor));
-      }
+    for (const Eigen::Vector2d& p : pixels[r]) {
+      const Eigen::Vector2d q = p - mean;
+      a0 = std::min(a0, q.dot(major)), a1 = std::max(a1, q.dot(major));
+      b0 = std::min(b0, q.dot(minor)), b1 = std::max(b1, q.dot(minor));
+    }
     const double length = (a1 - a0 + 1) * res, width = (b1 - b0 + 1) * res;
     s.area_m2 = count[r] * res * res;
     s.aspect = std::max(length, width) / std::max(std::min(length, width), res);
