@@ -164,7 +164,13 @@ Status RunPipeline(const RunArgs& args) {
       Result<std::unique_ptr<SupportClutterStage>> sup = SupportClutterStage::Create(so, models_dir);
       if (!sup.ok()) return sup.status();
       support = std::move(sup).value();
-      semantic->SetViewHook([&support](const RenderedView& view) { return support->AddView(view); });
+      semantic->SetViewHook([&support](const RenderedView& view) -> Result<std::function<Status()>> {
+        Result<SupportClutterStage::ViewResult> r = support->Process(view);  // In parallel with other views.
+        if (!r.ok()) return r.status();
+        return std::function<Status()>([&support, &view, r = std::make_shared<SupportClutterStage::ViewResult>(std::move(r).value())] {
+          return support->Add(view, std::move(*r));  // Fused in view order.
+        });
+      });
     }
   }
   SEMVOX_RETURN_IF_ERROR(RunViewsStage(renderer.value(), map, config.render, args.outdir, args.save_views, &views,
@@ -335,7 +341,9 @@ Status RunPipeline(const RunArgs& args) {
     nlohmann::ordered_json files = nlohmann::ordered_json::array({"support_clutter.ply", "support_clutter_topview.png"});
     if (config.objects.proposals) files.push_back("object_proposals.json");
     s["objects"] = {{"views", ss.views}, {"voxels", ss.voxels}, {"support_voxels", ss.support_voxels},
-                    {"clutter_voxels", ss.clutter_voxels}, {"proposals", ss.proposals}, {"files", files}};
+                    {"clutter_voxels", ss.clutter_voxels}, {"proposals", ss.proposals},
+                    {"thread_seconds", {{"support_clutter", ss.ms_classify / 1000.0}, {"proposals", ss.ms_proposals / 1000.0}}},
+                    {"files", files}};
   }
   s["warnings"] = TakeWarnings();
   timing["total"] = Seconds(t_all);

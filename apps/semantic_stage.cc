@@ -126,13 +126,13 @@ struct SemanticStage::Impl {
   double seconds_classify = 0, seconds_depth = 0, seconds_solve = 0;
   int hooked_views = 0;  // Classified views the view hook saw.
   const OnnxModels* onnx = nullptr;
-  std::function<Status(const RenderedView&)> hook;
+  ViewHook hook;
 };
 
 SemanticStage::SemanticStage(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 SemanticStage::~SemanticStage() = default;
 void SemanticStage::SetOnnxModels(const OnnxModels* models) { impl_->onnx = models; }
-void SemanticStage::SetViewHook(std::function<Status(const RenderedView&)> hook) { impl_->hook = std::move(hook); }
+void SemanticStage::SetViewHook(ViewHook hook) { impl_->hook = std::move(hook); }
 
 Result<std::unique_ptr<SemanticStage>> SemanticStage::Create(const VoxelMap& map, const ViewRenderer& renderer,
                                                              const SemanticStageOptions& options, const std::string& models_dir) {
@@ -249,13 +249,14 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
   }
   const int K = s.level.num_classes();
   const std::vector<bool> object_classes = RoomObjectClasses(s.level.class_names);
-  constexpr size_t kBatch = 4;
+  constexpr size_t kBatch = 8;
   struct Slot {
     RenderedView view;
     bool use = false;
     Superpixels superpixels;
     std::vector<float> probabilities;
     std::array<double, 12> room{};
+    std::function<Status()> finish_hook;  // The view hook's serial part.
     Status status = Status::Ok();
   };
   std::vector<Slot> slots(kBatch);
@@ -264,6 +265,7 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
     tbb::parallel_for(size_t(0), nb, [&](size_t k) {
       Slot& slot = slots[k];
       slot.use = false;
+      slot.finish_hook = nullptr;
       const Pose& pose = poses[b0 + k];
       slot.status = s.renderer->Render(camera, WorldFromCameraYawPitch(pose.p, pose.yaw, tv.pitch_deg), render, &slot.view);
       if (!slot.status.ok()) return;
@@ -307,6 +309,14 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
                                   ObjectPixelFraction(slot.view, predicted, object_classes), kRoomMinObjectFraction);
       }
       for (size_t t = 0; t < 12 && t < p.size(); ++t) slot.room[t] = p[t];
+      if (s.hook && to_hook[b0 + k]) {
+        Result<std::function<Status()>> h = s.hook(slot.view);
+        if (!h.ok()) {
+          slot.status = h.status();
+          return;
+        }
+        slot.finish_hook = std::move(h).value();
+      }
       slot.use = true;
     });
     for (size_t k = 0; k < nb; ++k) {
@@ -317,8 +327,8 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
         continue;
       }
       s.acc->AddClassifiedView(slot.view, slot.superpixels.count > 0 ? &slot.superpixels.label : nullptr, slot.probabilities);
-      if (s.hook && to_hook[b0 + k]) {
-        SEMVOX_RETURN_IF_ERROR(s.hook(slot.view));
+      if (slot.finish_hook) {
+        SEMVOX_RETURN_IF_ERROR(slot.finish_hook());
         ++s.hooked_views;
       }
       ClassifiedViewRoomEvidence r;

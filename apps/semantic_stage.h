@@ -95,9 +95,12 @@ class SemanticStage {
   ~SemanticStage();
   // Optional: the user's ONNX networks replace the built-in per-view classifier and room-type evidence.
   void SetOnnxModels(const struct OnnxModels* models);
-  // Optional: called once per used classification view, in order (e.g. the support / clutter stage); with
-  // kAllObjectsOnCover only for the cover's views.
-  void SetViewHook(std::function<Status(const RenderedView&)> hook);
+  // Optional: the work to do on each used classification view (e.g. the support / clutter stage); with
+  // kAllObjectsOnCover only on the cover's views. The hook runs on several views at once, next to their
+  // classification, so it must be safe to call concurrently; what it returns runs once per view, in view
+  // order, on one thread (fusion), so the results do not depend on the threads.
+  using ViewHook = std::function<Result<std::function<Status()>>(const RenderedView&)>;
+  void SetViewHook(ViewHook hook);
   // Adds the depth, density, colour and normal evidence of every kept view.
   ViewSink DepthSink();
   // Renders and classifies the classification views from `positions` (x, y; the camera stands at the

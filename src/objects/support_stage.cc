@@ -40,12 +40,12 @@ Result<std::unique_ptr<SupportClutterStage>> SupportClutterStage::Create(const S
   return stage;
 }
 
-Status SupportClutterStage::AddView(const RenderedView& view) {
+Result<SupportClutterStage::ViewResult> SupportClutterStage::Process(const RenderedView& view) const {
+  ViewResult r;
   auto t0 = std::chrono::steady_clock::now();
   Result<SupportClutterView> out = classifier_.Classify(view);
   if (!out.ok()) return out.status();
-  SEMVOX_RETURN_IF_ERROR(fusion_.AddView(view, out->probabilities));
-  summary_.ms_classify += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  r.ms_classify = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (proposer_) {
     t0 = std::chrono::steady_clock::now();
     Result<ViewClassification> c = nyu4_->Classify(view);
@@ -55,11 +55,26 @@ Status SupportClutterStage::AddView(const RenderedView& view) {
       for (int k = 0; k < 4; ++k) p[i * 4 + size_t(k)] = float(c->tree_marginals.at(c->superpixels.label.data[i], k));
     Result<ViewProposals> props = proposer_->Propose(view, out->superpixels, p);
     if (!props.ok()) return props.status();
-    merger_.Add(props->proposals);
-    summary_.ms_proposals += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    r.proposals = std::move(props->proposals);
+    r.ms_proposals = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
+  r.probabilities = std::move(out->probabilities);
+  return r;
+}
+
+Status SupportClutterStage::Add(const RenderedView& view, ViewResult result) {
+  SEMVOX_RETURN_IF_ERROR(fusion_.AddView(view, result.probabilities));
+  if (proposer_) merger_.Add(result.proposals);
+  summary_.ms_classify += result.ms_classify;
+  summary_.ms_proposals += result.ms_proposals;
   ++summary_.views;
   return Status::Ok();
+}
+
+Status SupportClutterStage::AddView(const RenderedView& view) {
+  Result<ViewResult> r = Process(view);
+  if (!r.ok()) return r.status();
+  return Add(view, std::move(r).value());
 }
 
 Status SupportClutterStage::Write(const std::string& outdir, const VoxelGrid& grid, const Eigen::Isometry3d& input_from_world) const {

@@ -52,7 +52,18 @@ class SupportClutterStage {
  public:
   // Loads MODELS/support_clutter.svm and, with proposals, MODELS/nyu4.* and MODELS/object_proposals.svm.
   static Result<std::unique_ptr<SupportClutterStage>> Create(const SupportStageOptions& options, const std::string& models_dir);
-  // Classifies one view, fuses its probabilities and (with proposals) adds its 3D proposals.
+  // One view's results before fusion.
+  struct ViewResult {
+    std::vector<float> probabilities;  // w x h x 3 (support, clutter, other).
+    std::vector<ObjectProposal> proposals;
+    double ms_classify = 0, ms_proposals = 0;
+  };
+  // Classifies one view and (with proposals) finds its 3D proposals. Const and safe to call on several
+  // views at once; the results then go to Add in view order, so the fused outputs do not depend on threads.
+  Result<ViewResult> Process(const RenderedView& view) const;
+  // Fuses one processed view's probabilities and merges its proposals.
+  Status Add(const RenderedView& view, ViewResult result);
+  // Process then Add.
   Status AddView(const RenderedView& view);
   // OUTDIR/support_clutter.ply, OUTDIR/support_clutter_topview.png (on `grid`), OUTDIR/object_proposals.json.
   // Coordinates in support_clutter.ply and object_proposals.json are mapped by `input_from_world`.
