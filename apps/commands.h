@@ -40,6 +40,7 @@ struct GenerateArgs {
   bool cloud = false;  // Also simulate a scanner and write cloud.ply.
   bool clean = false;  // No scan artefacts in mesh.ply.
   bool randomised = false;  // Also write scan.ply: the apartment scanned as the randomised training style does.
+  std::string plan;    // An R2V floor plan (plan_*.txt) to build the apartment on instead of a drawn layout.
   std::vector<std::string> settings;  // "apartment.NAME=V", "artefacts.NAME=V", "scan.NAME=V" overrides.
 };
 

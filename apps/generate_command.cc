@@ -8,11 +8,14 @@
 #include "apps/commands.h"
 #include "perception/training_data.h"
 #include "core/file_util.h"
+#include "core/labels.h"
 #include "core/log.h"
 #include "core/mesh_ply.h"
 #include "scenegen/apartment.h"
 #include "scenegen/apartment_io.h"
 #include "scenegen/demo_scene.h"
+#include "scenegen/plan_apartment.h"
+#include "rooms/r2v_plan.h"
 #include "scenegen/scan_simulator.h"
 
 namespace semvox {
@@ -106,6 +109,40 @@ Status ApplySettings(const std::vector<std::string>& settings, GeneratorConfig* 
   return Status::Ok();
 }
 
+// An R2V plan as a layout in metres: walls, doors, the fixtures that are objects (toilet, bathtub, basin,
+// cooking counter) and the room raster. Room labels in regions open to the plan's border are counted in
+// `unclosed` (the rasteriser leaves those regions out).
+Result<PlanLayout> LayoutOfR2vPlan(const std::string& path, int* unclosed) {
+  Result<R2vPlan> plan = ReadR2vPlan(path);
+  if (!plan.ok()) return plan.status();
+  const double s = plan->metres_per_unit;
+  PlanLayout layout;
+  R2vRooms rooms = RasteriseR2vRooms(*plan, layout.resolution_m);
+  if (rooms.ids.data.empty())
+    return Status::InvalidInput(FileError(path, "too large to rasterise at 0.05 m (over 1 km across at its door scale)",
+                                          "check the plan's coordinates"));
+  layout.rooms = std::move(rooms.ids);
+  layout.room_type = std::move(rooms.type_id);
+  // RasteriseR2vRooms draws plan point (x, y) at pixel round(x s / res) + 5.
+  layout.origin = Eigen::Vector2d(-5.5 * layout.resolution_m, -5.5 * layout.resolution_m);
+  const std::map<std::string, int> fixture = {{"toilet", nyu40::kToilet}, {"bathtub", nyu40::kBathtub},
+                                              {"washing_basin", nyu40::kSink}, {"cooking_counter", nyu40::kCounter}};
+  *unclosed = 0;
+  for (const R2vItem& it : plan->items) {
+    const Eigen::Vector2d a(it.x0 * s, it.y0 * s), b(it.x1 * s, it.y1 * s);
+    if (it.category == "wall") layout.walls.push_back({a, b});
+    else if (it.category == "door") layout.doors.push_back({a, b});
+    else if (const auto f = fixture.find(it.category); f != fixture.end()) layout.fixtures.push_back({a, b, f->second});
+    else if (IsR2vRoomLabel(it.category)) {
+      const Eigen::Vector2d c = 0.5 * (a + b) - layout.origin;
+      const int col = int(c.x() / layout.resolution_m), row = int(c.y() / layout.resolution_m);
+      const bool inside = col >= 0 && row >= 0 && col < layout.rooms.width && row < layout.rooms.height;
+      if (inside && layout.rooms.at(col, row) == 0) ++*unclosed;
+    }
+  }
+  return layout;
+}
+
 }  // namespace
 
 Status RunGenerate(const GenerateArgs& args) {
@@ -121,8 +158,8 @@ Status RunGenerate(const GenerateArgs& args) {
   // The randomised validation set has the randomised training scans' furniture shapes too.
   config.apartment.shape_variety = args.randomised;
   SEMVOX_RETURN_IF_ERROR(ApplySettings(args.settings, &config));
-  SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(args.outdir));
   if (args.demo) {
+    SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(args.outdir));
     const Mesh mesh = BuildDemoApartment();
     const std::string path = (std::filesystem::path(args.outdir) / "mesh.ply").string();
     SEMVOX_RETURN_IF_ERROR(WriteMeshPly(path, mesh, "semvox demo apartment; face label = NYU40 id"));
@@ -130,7 +167,23 @@ Status RunGenerate(const GenerateArgs& args) {
     return Status::Ok();
   }
   const auto t0 = std::chrono::steady_clock::now();
-  Result<Apartment> apt = GenerateApartment(config.apartment);
+  Result<Apartment> apt = [&]() -> Result<Apartment> {
+    if (args.plan.empty()) return GenerateApartment(config.apartment);
+    int unclosed = 0;
+    Result<PlanLayout> layout = LayoutOfR2vPlan(args.plan, &unclosed);
+    if (!layout.ok()) return layout.status();
+    if (unclosed > 0)
+      SEMVOX_WARN(args.plan << ": " << unclosed << " room label(s) lie in regions open to the plan's border (walls do not "
+                            << "close them); those regions are taken as outside, not as rooms");
+    PlanApartmentOptions po;
+    po.seed = uint64_t(args.seed);
+    po.surface_cell_m = config.apartment.surface_cell_m;
+    Result<Apartment> a = ApartmentFromLayout(*layout, po);
+    if (!a.ok()) return Status::InvalidInput(FileError(args.plan, a.status().message(), "pass a plan_*.txt of ../shared/data/r2v"));
+    a->plan = args.plan;
+    config.apartment.furniture = config.apartment.props = false;  // gt.json says what the apartment holds.
+    return a;
+  }();
   if (!apt.ok()) return apt.status();
   SEMVOX_RETURN_IF_ERROR(WriteApartment(args.outdir, *apt, config.apartment, config.artefacts, GroundTruthOptions(), args.cloud));
   if (args.cloud) {

@@ -383,4 +383,16 @@ Result<Apartment> GenerateApartment(const ApartmentOptions& options) {
   return apt;
 }
 
+int RoomIdAt(const Apartment& apt, double x, double y) {
+  if (!apt.room_raster.data.empty()) {
+    const int c = int(std::floor((x - apt.room_raster_origin.x()) / apt.room_raster_m));
+    const int r = int(std::floor((y - apt.room_raster_origin.y()) / apt.room_raster_m));
+    if (c < 0 || r < 0 || c >= apt.room_raster.width || r >= apt.room_raster.height) return 0;
+    return apt.room_raster.at(c, r);
+  }
+  for (const RoomGt& room : apt.rooms)
+    if (x >= room.x0 && x < room.x1 && y >= room.y0 && y < room.y1) return room.id;
+  return 0;
+}
+
 }  // namespace semvox

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/geometry.h"
+#include "core/image.h"
 #include "core/status.h"
 
 namespace semvox {
@@ -56,7 +57,8 @@ struct RoomGt {
   int type_id = 0;                 // room_types.tsv id.
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // Clear interior (inner faces of walls), metres.
   std::vector<int> open_to;        // Rooms sharing this space with no wall in between (open plan).
-  double area_m2() const { return (x1 - x0) * (y1 - y0); }
+  double area = 0;                 // Floor area when the room is not its box (plan apartments), m²; 0: the box.
+  double area_m2() const { return area > 0 ? area : (x1 - x0) * (y1 - y0); }
 };
 
 struct ObjectGt {
@@ -104,7 +106,17 @@ struct Apartment {
   double ceiling_z_m = 2.6;
   double interior_wall_m = 0.1, exterior_wall_m = 0.2;
   Aabb bounds;                    // Of the mesh.
+  // Rooms that are not rectangles (apartments on a given plan, plan_apartment.h): room id per pixel, pixel
+  // (c, r) covering [origin + (c, r) res, origin + (c + 1, r + 1) res). Empty: the rooms are their boxes.
+  ImageU16 room_raster;
+  std::string plan;               // The plan file it was built on (gt.json "plan"), empty for drawn layouts.
+  double room_raster_m = 0.05;
+  Eigen::Vector2d room_raster_origin = Eigen::Vector2d::Zero();
 };
+
+// The id of the room whose floor holds (x, y), 0 for none: from room_raster when there is one, else the
+// first room box holding it.
+int RoomIdAt(const Apartment& apt, double x, double y);
 
 // Draws one apartment. Fails only on invalid options (or when no layout fits in max_attempts, which the
 // default options never hit).

@@ -48,6 +48,11 @@ FloorGrid MakeFloorGrid(const Apartment& apt, const GroundTruthOptions& o) {
 
 ImageU16 RasterizeRooms(const Apartment& apt, const FloorGrid& g) {
   ImageU16 img(g.width, g.height, 1, 0);
+  if (!apt.room_raster.data.empty()) {  // Rooms that are not boxes: sampled from the plan's raster.
+    for (int r = 0; r < g.height; ++r)
+      for (int c = 0; c < g.width; ++c) img.at(c, r) = uint16_t(RoomIdAt(apt, g.CenterX(c), g.CenterY(r)));
+    return img;
+  }
   for (const RoomGt& room : apt.rooms)
     for (int r = 0; r < g.height; ++r) {
       const double y = g.CenterY(r);
@@ -158,6 +163,7 @@ std::string GroundTruthJson(const Apartment& apt, const FloorGrid& g, const Grou
   j["format"] = "semvox-apartment-gt";
   j["version"] = 1;
   j["seed"] = apt.seed;
+  if (!apt.plan.empty()) j["plan"] = apt.plan;  // Absent for drawn layouts: their files stay as they were.
   j["floor_z_m"] = R4(apt.floor_z_m);
   j["ceiling_z_m"] = R4(apt.ceiling_z_m);
   j["interior_wall_m"] = R4(apt.interior_wall_m);

@@ -79,6 +79,8 @@ std::vector<Eigen::Vector3d> ScanStations(const Apartment& apt, const ScanSimula
   std::vector<Eigen::Vector3d> stations;
   for (int id : order) {
     const RoomGt& r = apt.rooms[size_t(id - 1)];
+    // A room that is not its box (plan apartments): the station must stand on the room's own floor.
+    auto in_room = [&](double x, double y) { return apt.room_raster.data.empty() || RoomIdAt(apt, x, y) == id; };
     const double m = o.station_clearance_m;
     const double w = r.x1 - r.x0 - 2 * m, h = r.y1 - r.y0 - 2 * m;
     if (w <= 0 || h <= 0) continue;
@@ -88,7 +90,7 @@ std::vector<Eigen::Vector3d> ScanStations(const Apartment& apt, const ScanSimula
       for (int i = 0; i < nx; ++i) {
         const int ii = (j % 2) ? nx - 1 - i : i;  // Serpentine walk.
         const double x = r.x0 + m + (ii + 0.5) * w / nx, y = r.y0 + m + (j + 0.5) * h / ny;
-        if (StationIsFree(apt, x, y, m, reach)) stations.emplace_back(x, y, z);
+        if (in_room(x, y) && StationIsFree(apt, x, y, m, reach)) stations.emplace_back(x, y, z);
       }
     if (stations.size() > before) continue;
     // No grid station is free: the free spot nearest the room centre on a 0.1 m grid.
@@ -98,7 +100,7 @@ std::vector<Eigen::Vector3d> ScanStations(const Apartment& apt, const ScanSimula
     for (double y = r.y0 + m; y <= r.y1 - m; y += 0.1)
       for (double x = r.x0 + m; x <= r.x1 - m; x += 0.1) {
         const double d = (x - cx) * (x - cx) + (y - cy) * (y - cy);
-        if (d < best && StationIsFree(apt, x, y, m, reach)) best = d, best_p = Eigen::Vector3d(x, y, z);
+        if (d < best && in_room(x, y) && StationIsFree(apt, x, y, m, reach)) best = d, best_p = Eigen::Vector3d(x, y, z);
       }
     if (best < 1e18) stations.push_back(best_p);
   }

@@ -311,7 +311,9 @@ TEST(ScanArtefacts, NothingLeftUnderBedsAndOptionsTurnOff) {
   for (size_t v = 0; v < apt.mesh.vertices.size(); ++v) {
     const Eigen::Vector3f& p = apt.mesh.vertices[v];
     const auto [it, fresh] = moved.emplace(std::array<float, 3>{p.x(), p.y(), p.z()}, noisy.vertices[v]);
-    if (!fresh) EXPECT_EQ(it->second, noisy.vertices[v]);
+    if (!fresh) {
+      EXPECT_EQ(it->second, noisy.vertices[v]);
+    }
   }
 }
 

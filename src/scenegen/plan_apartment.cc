@@ -1,0 +1,301 @@
+#include "scenegen/plan_apartment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "core/labels.h"
+#include "scenegen/apartment_builder.h"
+#include "scenegen/layout.h"
+#include "scenegen/random.h"
+
+namespace semvox {
+
+bool PlanApartmentOptions::Check(std::string* error) const {
+  std::ostringstream os;
+  if (!(ceiling_m >= 2 && ceiling_m <= 4)) os << "ceiling_m = " << ceiling_m << ". Violated constraint: 2 <= ceiling_m <= 4";
+  else if (!(wall_m >= 0.05 && wall_m <= 0.4)) os << "wall_m = " << wall_m << ". Violated constraint: 0.05 <= wall_m <= 0.4";
+  else if (!(door_height_m > 0 && door_height_m < ceiling_m))
+    os << "door_height_m = " << door_height_m << ". Violated constraint: 0 < door_height_m < ceiling_m";
+  else if (!(window_sill_m > 0 && window_sill_m < window_top_m && window_top_m < ceiling_m))
+    os << "window_sill_m = " << window_sill_m << ", window_top_m = " << window_top_m
+       << ". Violated constraint: 0 < window_sill_m < window_top_m < ceiling_m";
+  else if (!(min_window_wall_m > 0)) os << "min_window_wall_m = " << min_window_wall_m << ". Violated constraint: > 0";
+  else if (!(surface_cell_m > 0)) os << "surface_cell_m = " << surface_cell_m << ". Violated constraint: > 0";
+  if (os.str().empty()) return true;
+  if (error) *error = os.str();
+  return false;
+}
+
+namespace {
+
+using scenegen::ApartmentBuilder;
+using scenegen::Pose;
+
+using scenegen::RoomTypeIds;
+
+int RoomAt(const PlanLayout& l, double x, double y) {
+  const int c = int(std::floor((x - l.origin.x()) / l.resolution_m)), r = int(std::floor((y - l.origin.y()) / l.resolution_m));
+  if (c < 0 || r < 0 || c >= l.rooms.width || r >= l.rooms.height) return 0;
+  return l.rooms.at(c, r);
+}
+
+// Room ids spread by up to `reach` pixels into the pixels of no room (4-neighbour rings, lowest id first on
+// ties): the floor under walls and in door gaps belongs to a neighbouring room.
+ImageU16 SpreadRooms(const ImageU16& rooms, int reach) {
+  ImageU16 out = rooms;
+  std::vector<int> dist(out.data.size(), rooms.data.empty() ? 0 : -1);
+  std::deque<int> queue;
+  for (size_t i = 0; i < out.data.size(); ++i)
+    if (out.data[i]) dist[i] = 0, queue.push_back(int(i));
+  while (!queue.empty()) {
+    const int i = queue.front();
+    queue.pop_front();
+    if (dist[size_t(i)] >= reach) continue;
+    const int x = i % out.width, y = i / out.width;
+    const int nb[4][2] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1}};
+    for (const auto& n : nb) {
+      if (n[0] < 0 || n[1] < 0 || n[0] >= out.width || n[1] >= out.height) continue;
+      const size_t j = size_t(n[1]) * size_t(out.width) + size_t(n[0]);
+      if (dist[j] >= 0) continue;
+      dist[j] = dist[size_t(i)] + 1;
+      out.data[j] = out.data[size_t(i)];
+      queue.push_back(int(j));
+    }
+  }
+  return out;
+}
+
+struct Span {
+  double a, b, bottom, top;
+  bool door;
+};
+
+}  // namespace
+
+Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartmentOptions& o) {
+  using namespace nyu40;
+  std::string error;
+  if (!o.Check(&error)) return Status::InvalidInput("plan apartment options: " + error);
+  if (!(layout.resolution_m > 0) || layout.rooms.data.empty())
+    return Status::InvalidInput("plan layout: no room raster");
+  int max_id = 0;
+  for (uint16_t v : layout.rooms.data) max_id = std::max(max_id, int(v));
+  if (max_id == 0) return Status::InvalidInput("plan layout: no closed room (every region reaches the plan's border)");
+  for (const auto* list : {&layout.walls, &layout.doors})
+    for (const PlanLayout::Segment& s : *list)
+      if (!s.a.allFinite() || !s.b.allFinite()) return Status::InvalidInput("plan layout: a wall or door segment is not finite");
+  const RoomTypeIds& t = RoomTypeIds::Get();
+  Rng rng(SplitMix64(o.seed));
+  const double H = o.ceiling_m, W = o.wall_m, res = layout.resolution_m;
+
+  Apartment apt;
+  apt.seed = o.seed;
+  apt.floor_z_m = 0;
+  apt.ceiling_z_m = H;
+  apt.interior_wall_m = apt.exterior_wall_m = W;
+  apt.room_raster = layout.rooms;
+  apt.room_raster_m = res;
+  apt.room_raster_origin = layout.origin;
+  // Rooms: bounding box and pixel area of each id.
+  apt.rooms.resize(size_t(max_id));
+  std::vector<int> cmin(size_t(max_id) + 1, 1 << 30), cmax(size_t(max_id) + 1, -1), rmin = cmin, rmax = cmax, count(size_t(max_id) + 1, 0);
+  for (int r = 0; r < layout.rooms.height; ++r)
+    for (int c = 0; c < layout.rooms.width; ++c)
+      if (const int id = layout.rooms.at(c, r)) {
+        cmin[size_t(id)] = std::min(cmin[size_t(id)], c), cmax[size_t(id)] = std::max(cmax[size_t(id)], c);
+        rmin[size_t(id)] = std::min(rmin[size_t(id)], r), rmax[size_t(id)] = std::max(rmax[size_t(id)], r);
+        ++count[size_t(id)];
+      }
+  for (int id = 1; id <= max_id; ++id) {
+    RoomGt& g = apt.rooms[size_t(id - 1)];
+    g.id = id;
+    g.type_id = id < int(layout.room_type.size()) ? layout.room_type[size_t(id)] : 0;
+    if (count[size_t(id)] == 0) continue;  // An id the raster skips: an empty room.
+    g.x0 = layout.origin.x() + cmin[size_t(id)] * res, g.x1 = layout.origin.x() + (cmax[size_t(id)] + 1) * res;
+    g.y0 = layout.origin.y() + rmin[size_t(id)] * res, g.y1 = layout.origin.y() + (rmax[size_t(id)] + 1) * res;
+    g.area = count[size_t(id)] * res * res;
+  }
+  ApartmentBuilder b(&apt, o.surface_cell_m);
+  const std::vector<Rgb8> wall_colors = {{236, 232, 222}, {245, 245, 240}, {222, 226, 230}, {238, 228, 210}, {215, 225, 215}};
+  const std::vector<Rgb8> floor_colors = {{164, 118, 76}, {190, 150, 105}, {140, 100, 70}, {200, 200, 195}, {120, 110, 100}};
+  const Rgb8 wall_c = wall_colors[size_t(rng.UniformInt(0, int(wall_colors.size()) - 1))];
+  const Rgb8 wood = floor_colors[size_t(rng.UniformInt(0, int(floor_colors.size()) - 1))], tile{205, 210, 214};
+  const Rgb8 ceiling_c{248, 248, 246};
+  auto wet = [&](int type) { return type == t.bathroom || type == t.laundry || type == t.kitchen; };
+
+  // Floors and ceilings: rectangles of equal room id over the room pixels spread 3 pixels (under the walls and
+  // across door gaps), merged row by row.
+  const ImageU16 spread = SpreadRooms(layout.rooms, int(std::ceil(0.15 / res)));
+  std::map<std::tuple<int, int, int>, int> open;  // (c0, c1, id) -> first row of a rectangle still growing
+  auto emit = [&](int c0, int c1, int id, int r0, int r1) {
+    const double x0 = layout.origin.x() + c0 * res, x1 = layout.origin.x() + (c1 + 1) * res;
+    const double y0 = layout.origin.y() + r0 * res, y1 = layout.origin.y() + (r1 + 1) * res;
+    const int type = apt.rooms[size_t(id - 1)].type_id;
+    b.AddSurface({x0, y0, 0}, Eigen::Vector3d::UnitX(), x1 - x0, Eigen::Vector3d::UnitY(), y1 - y0, wet(type) ? tile : wood,
+                 FaceTags{kFloor, -1, id}, -1);
+    b.AddSurface({x0, y0, H}, Eigen::Vector3d::UnitY(), y1 - y0, Eigen::Vector3d::UnitX(), x1 - x0, ceiling_c,
+                 FaceTags{kCeiling, -1, id}, -1);
+  };
+  for (int r = 0; r <= spread.height; ++r) {
+    std::map<std::tuple<int, int, int>, int> next;
+    for (int c = 0; r < spread.height && c < spread.width;) {
+      const int id = spread.at(c, r);
+      int e = c;
+      while (e + 1 < spread.width && spread.at(e + 1, r) == id) ++e;
+      if (id) {
+        const auto key = std::make_tuple(c, e, id);
+        const auto it = open.find(key);
+        next[key] = it == open.end() ? r : it->second;
+        if (it != open.end()) open.erase(it);
+      }
+      c = e + 1;
+    }
+    for (const auto& [key, r0] : open) emit(std::get<0>(key), std::get<1>(key), std::get<2>(key), r0, r - 1);
+    open = std::move(next);
+  }
+
+  // Walls: solid pieces around the door gaps (lintels above) and windows (sill and lintel pieces).
+  const Eigen::Vector3d Z = Eigen::Vector3d::UnitZ();
+  for (const PlanLayout::Segment& w : layout.walls) {
+    const Eigen::Vector2d ab = w.b - w.a;
+    const double L = ab.norm();
+    if (L < 1e-3) continue;
+    const Eigen::Vector2d d2 = ab / L, n2(-d2.y(), d2.x());
+    const Eigen::Vector3d d(d2.x(), d2.y(), 0), n(n2.x(), n2.y(), 0);
+    const double t_lo = -W / 2, t_hi = L + W / 2;  // Walls run on by half their thickness so that corners close.
+    auto at = [&](double along, double perp) -> Eigen::Vector2d { return w.a + d2 * along + n2 * perp; };
+    std::vector<Span> spans;
+    for (const PlanLayout::Segment& door : layout.doors) {
+      const Eigen::Vector2d dd = door.b - door.a;
+      if (dd.norm() < 1e-3 || std::fabs(dd.normalized().dot(d2)) < 0.95) continue;
+      if (std::fabs((door.a - w.a).dot(n2)) > std::max(W, 0.15) || std::fabs((door.b - w.a).dot(n2)) > std::max(W, 0.15)) continue;
+      double s0 = (door.a - w.a).dot(d2), s1 = (door.b - w.a).dot(d2);
+      if (s0 > s1) std::swap(s0, s1);
+      s0 = std::max(s0, t_lo), s1 = std::min(s1, t_hi);
+      if (s1 - s0 > 0.2) spans.push_back({s0, s1, 0.0, o.door_height_m, true});
+    }
+    std::sort(spans.begin(), spans.end(), [](const Span& x, const Span& y) { return x.a < y.a; });
+    // Merge overlapping door gaps.
+    std::vector<Span> doors;
+    for (const Span& s : spans) {
+      if (!doors.empty() && s.a <= doors.back().b) doors.back().b = std::max(doors.back().b, s.b);
+      else doors.push_back(s);
+    }
+    // Windows: in each door-free stretch of an exterior wall (a room on one side, nothing on the other, 0.3 and
+    // 1 m out) long enough, beside rooms that usually have one.
+    std::vector<Span> all = doors;
+    double from = t_lo;
+    for (size_t k = 0; k <= doors.size(); ++k) {
+      const double to = k < doors.size() ? doors[k].a : t_hi;
+      const double len = to - from - 0.4;  // 0.2 m of wall either side.
+      if (len >= o.min_window_wall_m) {
+        const double mid = 0.5 * (from + to);
+        const int ra = RoomAt(layout, at(mid, W / 2 + 0.3).x(), at(mid, W / 2 + 0.3).y());
+        const int rb = RoomAt(layout, at(mid, -W / 2 - 0.3).x(), at(mid, -W / 2 - 0.3).y());
+        const bool out_a = ra == 0 && RoomAt(layout, at(mid, W / 2 + 1).x(), at(mid, W / 2 + 1).y()) == 0;
+        const bool out_b = rb == 0 && RoomAt(layout, at(mid, -W / 2 - 1).x(), at(mid, -W / 2 - 1).y()) == 0;
+        const int room = out_a && rb ? rb : out_b && ra ? ra : 0;
+        const int type = room ? apt.rooms[size_t(room - 1)].type_id : -1;
+        const bool wants = room && type != t.bathroom && type != t.storage && type != t.corridor && type != t.laundry;
+        if (wants && rng.Bernoulli(0.8)) {
+          const double width = std::min(1.6, 0.6 * len);
+          const double a = mid - width / 2, bb = mid + width / 2;
+          all.push_back({a, bb, o.window_sill_m, o.window_top_m, false});
+          WindowGt g;
+          g.room = room;
+          g.along_x = std::fabs(d2.x()) >= std::fabs(d2.y());
+          g.center = at(mid, 0);
+          g.width_m = width, g.sill_m = o.window_sill_m, g.top_m = o.window_top_m;
+          apt.windows.push_back(g);
+          const Eigen::Vector2d c = at(mid, 0);
+          b.Begin(kWindow, room, Pose{c.x(), c.y(), std::atan2(d2.y(), d2.x()), 0});
+          b.Box(-width / 2, -0.01, o.window_sill_m, width / 2, 0.01, o.window_top_m, Rgb8{170, 200, 225});
+          b.End();
+        }
+      }
+      if (k < doors.size()) from = doors[k].b;
+    }
+    std::sort(all.begin(), all.end(), [](const Span& x, const Span& y) { return x.a < y.a; });
+    // The room a face looks into: sampled just off the face.
+    auto room_off = [&](double along, double perp) {
+      const Eigen::Vector2d p = at(along, perp);
+      return RoomAt(layout, p.x(), p.y());
+    };
+    auto piece = [&](double t0, double t1, double z0, double z1) {
+      if (t1 - t0 < 1e-6 || z1 - z0 < 1e-6) return;
+      const Eigen::Vector2d c2 = at(0.5 * (t0 + t1), 0);
+      const int part = b.AddSolid(OrientedBox{Eigen::Vector3d(c2.x(), c2.y(), 0.5 * (z0 + z1)), Eigen::Vector3d(t1 - t0, W, z1 - z0),
+                                              std::atan2(d2.y(), d2.x())},
+                                  kWall, -1, true);
+      // The two long faces, split where the room beside them changes.
+      for (int side : {1, -1}) {
+        const double perp = side * W / 2;
+        double s0 = t0;
+        int id = room_off(t0 + 0.025, perp + side * 0.08);
+        for (double s = t0 + 0.05;; s += 0.05) {
+          const bool end = s >= t1 - 1e-9;
+          const int here = end ? -1 : room_off(s + 0.025, perp + side * 0.08);
+          if (end || here != id) {
+            const double s1 = std::min(s, t1);
+            const Eigen::Vector2d p = at(s0, perp);
+            const FaceTags tags{kWall, -1, id > 0 ? id : -1};
+            if (side > 0) b.AddSurface({p.x(), p.y(), z0}, Z, z1 - z0, d, s1 - s0, wall_c, tags, part);
+            else b.AddSurface({p.x(), p.y(), z0}, d, s1 - s0, Z, z1 - z0, wall_c, tags, part);
+            if (end) break;
+            s0 = s1, id = here;
+          }
+        }
+      }
+      auto tag_at = [&](double along) {
+        const int r = std::max(room_off(along, W / 2 + 0.08), room_off(along, -W / 2 - 0.08));
+        return FaceTags{kWall, -1, r > 0 ? r : -1};
+      };
+      const Eigen::Vector2d e0 = at(t0, -W / 2), e1 = at(t1, -W / 2);
+      b.AddSurface({e0.x(), e0.y(), z0}, Z, z1 - z0, n, W, wall_c, tag_at(t0 - 0.05), part);  // End at t0 (faces -d).
+      b.AddSurface({e1.x(), e1.y(), z0}, n, W, Z, z1 - z0, wall_c, tag_at(t1 + 0.05), part);  // End at t1 (faces +d).
+      if (z0 > 1e-6) b.AddSurface({e0.x(), e0.y(), z0}, n, W, d, t1 - t0, wall_c, tag_at(0.5 * (t0 + t1)), part);      // Underside.
+      if (z1 < H - 1e-6) b.AddSurface({e0.x(), e0.y(), z1}, d, t1 - t0, n, W, wall_c, tag_at(0.5 * (t0 + t1)), part);  // Top.
+    };
+    double cur = t_lo;
+    for (const Span& s : all) {
+      piece(cur, s.a, 0, H);
+      piece(s.a, s.b, 0, s.bottom);
+      piece(s.a, s.b, s.top, H);
+      cur = std::max(cur, s.b);
+    }
+    piece(cur, t_hi, 0, H);
+  }
+  // Door ground truth: the rooms on either side of the gap.
+  for (const PlanLayout::Segment& door : layout.doors) {
+    const Eigen::Vector2d dd = door.b - door.a;
+    if (dd.norm() < 1e-3) continue;
+    const Eigen::Vector2d dir = dd.normalized(), nn(-dir.y(), dir.x()), c = 0.5 * (door.a + door.b);
+    DoorGt g;
+    const int ra = RoomAt(layout, c.x() + 0.3 * nn.x(), c.y() + 0.3 * nn.y());
+    const int rb = RoomAt(layout, c.x() - 0.3 * nn.x(), c.y() - 0.3 * nn.y());
+    g.room_a = ra ? ra : rb ? rb : -1;
+    g.room_b = ra && rb ? rb : -1;
+    g.center = c;
+    g.along_x = std::fabs(dir.x()) >= std::fabs(dir.y());
+    g.width_m = dd.norm(), g.height_m = o.door_height_m, g.wall_thickness_m = W;
+    apt.doors.push_back(g);
+  }
+  // Fixtures: boxes of the plan's footprint, at the height of their kind.
+  for (const PlanLayout::Fixture& f : layout.fixtures) {
+    const Eigen::Vector2d lo = f.lo.cwiseMin(f.hi), hi = f.lo.cwiseMax(f.hi), c = 0.5 * (lo + hi), size = hi - lo;
+    if (!lo.allFinite() || !hi.allFinite() || size.minCoeff() < 0.1) continue;
+    const double h = f.label == kToilet ? 0.75 : f.label == kBathtub ? 0.55 : f.label == kSink ? 0.85 : f.label == kCounter ? 0.9 : 0.8;
+    const Rgb8 colour = f.label == kCounter ? Rgb8{200, 195, 185} : Rgb8{240, 240, 238};
+    b.Begin(f.label, RoomAt(layout, c.x(), c.y()), Pose{c.x(), c.y(), 0, 0});
+    b.Box(-size.x() / 2, -size.y() / 2, 0, size.x() / 2, size.y() / 2, h, colour, true);
+    b.End();
+  }
+  b.Finish();
+  return apt;
+}
+
+}  // namespace semvox

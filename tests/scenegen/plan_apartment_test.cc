@@ -1,0 +1,187 @@
+// Apartments on a given floor plan (scenegen/plan_apartment.h):
+//  - a hand-made L-shaped flat (a living room with an L-shaped floor, a WC behind a door, a toilet): the room
+//    ground truth is the plan's raster, walls stand on the wall lines with a gap and a lintel at the door,
+//    every wall face is tagged with the room it faces, floors cover the rooms and the door gap, the toilet
+//    is an object of the WC; an exterior wall of the living room gets a window;
+//  - `semvox generate --plan` on a real R2V plan of ../shared/data/r2v (skipped when absent): the files
+//    of a generated apartment, with one room per closed region of the plan; bad plans rejected with one
+//    error line and nothing written.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "core/labels.h"
+#include "scenegen/apartment_io.h"
+#include "scenegen/plan_apartment.h"
+
+namespace semvox {
+namespace {
+
+namespace fs = std::filesystem;
+
+// L-shaped living room (id 1): [0, 4] x [0, 2] plus [0, 2] x [2, 4]; WC (id 2): [2.1, 4] x [2.1, 4] minus
+// nothing; wall lines on x = 0, 4, 2.05 (from y = 2.05 to 4), y = 0, 4, 2.05 (from x = 2.05 to 4); the
+// door from the living room to the WC in the wall y = 2.05 at x in [2.6, 3.4]; a toilet in the WC.
+PlanLayout LShapedFlat() {
+  PlanLayout l;
+  l.resolution_m = 0.05;
+  l.origin = Eigen::Vector2d(-0.5, -0.5);
+  const int n = 100;  // 5 m.
+  l.rooms = ImageU16(n, n, 1, 0);
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) {
+      const double x = l.origin.x() + (c + 0.5) * l.resolution_m, y = l.origin.y() + (r + 0.5) * l.resolution_m;
+      if (x < 0.05 || x > 3.95 || y < 0.05 || y > 3.95) continue;  // Exterior walls and outside.
+      const bool wc = x > 2.1 && y > 2.1;
+      const bool wall = (std::fabs(x - 2.05) < 0.05 && y > 2.0) || (std::fabs(y - 2.05) < 0.05 && x > 2.0);
+      if (!wall) l.rooms.at(c, r) = wc ? 2 : 1;
+    }
+  const auto seg = [](double x0, double y0, double x1, double y1) { return PlanLayout::Segment{{x0, y0}, {x1, y1}}; };
+  l.walls = {seg(0, 0, 4, 0), seg(4, 0, 4, 4), seg(4, 4, 0, 4), seg(0, 4, 0, 0), seg(2.05, 2.05, 2.05, 4), seg(2.05, 2.05, 4, 2.05)};
+  l.doors = {seg(2.6, 2.05, 3.4, 2.05)};
+  l.fixtures = {{{3.3, 3.4}, {3.8, 3.9}, nyu40::kToilet}};
+  l.room_type = {0, RoomTypeIdByName("living_room"), RoomTypeIdByName("bathroom")};
+  return l;
+}
+
+bool InsideBox(const OrientedBox& b, const Eigen::Vector3d& p) {
+  const double c = std::cos(b.yaw_rad), s = std::sin(b.yaw_rad);
+  const Eigen::Vector3d q = p - b.center;
+  const double lx = c * q.x() + s * q.y(), ly = -s * q.x() + c * q.y();
+  return std::fabs(lx) <= b.size.x() / 2 && std::fabs(ly) <= b.size.y() / 2 && std::fabs(q.z()) <= b.size.z() / 2;
+}
+
+TEST(PlanApartment, LShapedFlatHasItsRoomsWallsDoorGapAndFixture) {
+  const PlanLayout layout = LShapedFlat();
+  Result<Apartment> apt = ApartmentFromLayout(layout, PlanApartmentOptions{});
+  ASSERT_TRUE(apt.ok()) << apt.status().message();
+  ASSERT_EQ(apt->rooms.size(), 2u);
+  // Room ground truth from the raster: the L shape's area (3.9 x 1.95 + 1.95 x 1.9, to the pixel) and its box.
+  const RoomGt& living = apt->rooms[0];
+  EXPECT_NEAR(living.area_m2(), 3.9 * 2.0 + 2.0 * 1.9, 0.3);
+  EXPECT_NEAR(living.x1 - living.x0, 3.9, 0.06);
+  EXPECT_EQ(RoomIdAt(*apt, 1.0, 3.0), 1) << "the L's arm is the living room";
+  EXPECT_EQ(RoomIdAt(*apt, 3.0, 3.0), 2);
+  EXPECT_EQ(RoomIdAt(*apt, 3.0, 1.0), 1);
+  EXPECT_EQ(apt->rooms[1].type_id, RoomTypeIdByName("bathroom"));
+  // Walls: a gap at the door up to the door height, a lintel above it; solid wall beside the door.
+  auto wall_at = [&](double x, double y, double z) {
+    for (const SolidPart& p : apt->parts)
+      if (p.structural && InsideBox(p.box, {x, y, z})) return true;
+    return false;
+  };
+  EXPECT_FALSE(wall_at(3.0, 2.05, 1.0)) << "door gap";
+  EXPECT_TRUE(wall_at(3.0, 2.05, 2.2)) << "lintel";
+  EXPECT_TRUE(wall_at(2.3, 2.05, 1.0));
+  EXPECT_TRUE(wall_at(0.0, 1.0, 1.0));
+  EXPECT_FALSE(wall_at(1.0, 3.0, 1.0)) << "no wall across the L";
+  // Faces: every wall face looks into the room it is tagged with (or out of the flat, tagged -1); floors cover
+  // the rooms and the door gap; a toilet object in the WC.
+  const auto& lab = apt->mesh.face_attributes.at("label");
+  const auto& room = apt->mesh.face_attributes.at("room");
+  int wall_faces = 0, wall_ok = 0, floor_gap = 0, toilet_faces = 0;
+  for (size_t f = 0; f < apt->mesh.faces.size(); ++f) {
+    const auto& t = apt->mesh.faces[f];
+    const Eigen::Vector3d a = apt->mesh.vertices[size_t(t[0])].cast<double>(), b = apt->mesh.vertices[size_t(t[1])].cast<double>(),
+                          c = apt->mesh.vertices[size_t(t[2])].cast<double>();
+    const Eigen::Vector3d centre = (a + b + c) / 3, normal = (b - a).cross(c - a).normalized();
+    if (lab[f] == nyu40::kWall && std::fabs(normal.z()) < 0.1) {
+      const Eigen::Vector3d q = centre + 0.1 * normal;
+      const int seen = RoomIdAt(*apt, q.x(), q.y());
+      ++wall_faces;
+      wall_ok += room[f] == (seen > 0 ? seen : -1);
+    }
+    if (lab[f] == nyu40::kFloor && std::fabs(centre.y() - 2.05) < 0.05 && centre.x() > 2.7 && centre.x() < 3.3) ++floor_gap;
+    if (lab[f] == nyu40::kToilet) {
+      ++toilet_faces;
+      EXPECT_EQ(room[f], 2);
+    }
+  }
+  ASSERT_GT(wall_faces, 50);
+  EXPECT_GE(double(wall_ok) / wall_faces, 0.95) << wall_ok << " of " << wall_faces;
+  EXPECT_GT(floor_gap, 0) << "floor under the door gap";
+  EXPECT_GE(toilet_faces, 5);
+  ASSERT_EQ(apt->doors.size(), 1u);
+  EXPECT_EQ(std::set<int>({apt->doors[0].room_a, apt->doors[0].room_b}), std::set<int>({1, 2}));
+  // Windows go into exterior walls of rooms that have them: not into the WC, nowhere inside the flat.
+  for (const WindowGt& w : apt->windows) {
+    EXPECT_EQ(w.room, 1);
+    EXPECT_TRUE(std::fabs(w.center.x()) < 0.01 || std::fabs(w.center.x() - 4) < 0.01 || std::fabs(w.center.y()) < 0.01 ||
+                std::fabs(w.center.y() - 4) < 0.01);
+  }
+  // The ground-truth raster written for `semvox eval` is the plan's.
+  const FloorGrid g = MakeFloorGrid(*apt, GroundTruthOptions());
+  const ImageU16 gt = RasterizeRooms(*apt, g);
+  int px[3] = {0, 0, 0};
+  for (uint16_t v : gt.data) ++px[std::min<int>(v, 2)];
+  EXPECT_NEAR(px[1] * g.resolution * g.resolution, living.area_m2(), 0.1);
+  EXPECT_NEAR(px[2] * g.resolution * g.resolution, apt->rooms[1].area_m2(), 0.1);
+}
+
+TEST(PlanApartment, RejectsLayoutsWithoutRoomsAndBadOptions) {
+  PlanLayout empty = LShapedFlat();
+  std::fill(empty.rooms.data.begin(), empty.rooms.data.end(), 0);
+  Result<Apartment> a = ApartmentFromLayout(empty, PlanApartmentOptions{});
+  ASSERT_FALSE(a.ok());
+  EXPECT_NE(a.status().message().find("no closed room"), std::string::npos) << a.status().message();
+  PlanApartmentOptions o;
+  o.door_height_m = 3.0;
+  EXPECT_FALSE(ApartmentFromLayout(LShapedFlat(), o).ok());
+}
+
+int RunSemvox(const std::string& args, const fs::path& log) {
+  const int st = std::system((std::string(SEMVOX_BINARY) + " " + args + " >" + log.string() + " 2>&1").c_str());
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+std::string Slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::ostringstream os;
+  os << f.rdbuf();
+  return os.str();
+}
+
+TEST(GenerateCommand, PlanBuildsARealLayoutAndRejectsBadPlans) {
+  const std::string plan = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/r2v/plan_0300.txt";
+  if (!fs::exists(SEMVOX_BINARY)) GTEST_SKIP() << "semvox binary not built";
+  const fs::path root = fs::temp_directory_path() / ("semvox_plan_cli_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root);
+  const fs::path log = root / "log.txt";
+  // Bad plans: one error line naming the file, exit 2, no output directory.
+  std::ofstream(root / "not_a_plan.txt") << "hello world\n";
+  std::ofstream(root / "no_door.txt") << "0 0 100 0 wall 1 1\n100 0 100 100 wall 1 1\n10 10 40 30 bedroom 1 1\n";
+  for (const char* bad : {"not_a_plan.txt", "no_door.txt", "missing.txt"}) {
+    EXPECT_EQ(RunSemvox("generate --plan " + (root / bad).string() + " -o " + (root / "out_bad").string(), log), 2) << bad;
+    const std::string text = Slurp(log);
+    EXPECT_NE(text.find(bad), std::string::npos) << text;
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+    EXPECT_FALSE(fs::exists(root / "out_bad")) << bad;
+  }
+  if (!fs::exists(plan)) {
+    fs::remove_all(root);
+    GTEST_SKIP() << "no R2V plans in ../shared/data/r2v";
+  }
+  ASSERT_EQ(RunSemvox("generate --plan " + plan + " --seed 3 -o " + (root / "a").string(), log), 0) << Slurp(log);
+  ASSERT_EQ(RunSemvox("generate --plan " + plan + " --seed 3 -o " + (root / "b").string(), log), 0) << Slurp(log);
+  for (const char* name : {"mesh.ply", "gt_mesh.ply", "gt.json", "rooms_gt.png", "topview_gt.png"}) {
+    const std::string a = Slurp(root / "a" / name);
+    EXPECT_FALSE(a.empty()) << name;
+    EXPECT_EQ(a, Slurp(root / "b" / name)) << name << ": same plan and seed, same bytes";
+  }
+  const std::string gt = Slurp(root / "a" / "gt.json");
+  EXPECT_NE(gt.find("\"plan\": \"" + plan + "\""), std::string::npos);
+  // plan_0300: 11 closed rooms (bedroom, living room, kitchen, bathrooms, closets, ...), 3 fixtures or more.
+  EXPECT_NE(gt.find("\"rooms\": 11"), std::string::npos) << gt.substr(gt.find("\"counts\""), 200);
+  fs::remove_all(root);
+}
+
+}  // namespace
+}  // namespace semvox
