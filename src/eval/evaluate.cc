@@ -288,9 +288,11 @@ RoomTypeScores ScoreRoomTypes(const ImageU16& gt_rooms, const FloorGrid& gt_grid
       const int g = gt_rooms.at(c, r);
       if (!g) continue;
       const int gt = type_of(gt_types, g);
+      if (gt == 0) continue;  // Untyped in the ground truth: nothing to score.
       const int p = Sample(pred_rooms, pred_grid, gt_grid.CenterX(c), gt_grid.CenterY(r));
       const int pt = p ? type_of(pred_types, p) : 0;
       ++n;
+      ++s.confusion_pixels[gt][pt];
       auto& e = per_type[gt];
       ++e.second;
       if (pt == gt) ++e.first, ++ok;
@@ -497,7 +499,12 @@ std::string EvalReport::ToJson() const {
                                           {"gt_rooms", rooms_typed.gt_rooms}, {"predicted_rooms", rooms_typed.predicted_rooms}};
   nlohmann::ordered_json per_type = nlohmann::ordered_json::object();
   for (const auto& [t, v] : room_types.recall_per_type) per_type[RoomTypes()[size_t(std::clamp(t, 0, kNumRoomTypes - 1))].name] = Round6(v);
-  j["e_room_types"] = {{"global", ScoreJson(room_types.global)}, {"average", ScoreJson(room_types.average)}, {"recall_per_type", per_type}};
+  auto type_name = [](int t) { return RoomTypes()[size_t(std::clamp(t, 0, kNumRoomTypes - 1))].name; };
+  nlohmann::ordered_json confusion = nlohmann::ordered_json::object();
+  for (const auto& [gt, row] : room_types.confusion_pixels)
+    for (const auto& [pt, count] : row) confusion[type_name(gt)][type_name(pt)] = count;
+  j["e_room_types"] = {{"global", ScoreJson(room_types.global)}, {"average", ScoreJson(room_types.average)}, {"recall_per_type", per_type},
+                       {"confusion_pixels", confusion}};
   return j.dump(2) + "\n";
 }
 

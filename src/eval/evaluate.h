@@ -66,6 +66,7 @@ struct RoomSegmentationScores {
 struct RoomTypeScores {
   Score global, average;  // Per-pixel accuracy; mean over ground-truth types present of per-type recall.
   std::map<int, double> recall_per_type;
+  std::map<int, std::map<int, size_t>> confusion_pixels;  // [ground-truth type][predicted type] (0: none).
 };
 
 struct EvalReport {
@@ -101,7 +102,8 @@ VoxelScores ScoreVoxels(const VoxelLabels& gt, const VoxelLabels& pred);
 // (d) `pred_rooms` on `pred_grid` (room ids, 0 none) against `gt_rooms` on `gt_grid`.
 RoomSegmentationScores ScoreRoomSegmentation(const ImageU16& gt_rooms, const FloorGrid& gt_grid,
                                              const ImageU16& pred_rooms, const FloorGrid& pred_grid);
-// (e) Types per room id (gt_types[id], pred_types[id]; missing ids count as type 0 = unknown).
+// (e) Types per room id (gt_types[id], pred_types[id]; missing ids count as type 0 = unknown). Ground-truth
+// rooms of type 0 (untyped: a real plan's entrance or a room whose labels disagree) are not scored.
 RoomTypeScores ScoreRoomTypes(const ImageU16& gt_rooms, const FloorGrid& gt_grid, const std::map<int, int>& gt_types,
                               const ImageU16& pred_rooms, const FloorGrid& pred_grid, const std::map<int, int>& pred_types);
 

@@ -113,6 +113,13 @@ TEST(ScoreRoomTypes, KnownMistakeGivesExactFigures) {
   // A room the prediction leaves untyped (not in rooms.geojson) counts as unknown.
   s = ScoreRoomTypes(gt, g, gt_types, gt, g, {{1, bedroom}});
   EXPECT_DOUBLE_EQ(s.global.value, 100.0 / 150);
+  EXPECT_EQ(s.confusion_pixels[kitchen][0], 50u);
+  EXPECT_EQ(s.confusion_pixels[bedroom][bedroom], 100u);
+  // A ground-truth room without a type (a real plan's entrance) is not scored, whatever is predicted there.
+  s = ScoreRoomTypes(gt, g, {{1, bedroom}, {2, 0}}, gt, g, {{1, bedroom}, {2, kitchen}});
+  EXPECT_DOUBLE_EQ(s.global.value, 1.0);
+  EXPECT_DOUBLE_EQ(s.average.value, 1.0);
+  EXPECT_EQ(s.confusion_pixels.count(0), 0u);
 }
 
 TEST(ScoreTopView, KnownMistakeGivesExactFigures) {
