@@ -27,30 +27,53 @@ bool IsR2vRoomLabel(const std::string& name) {
   return R2vRoomTypeId(name) > 0 || name == "entrance" || name == "special";
 }
 
+namespace {
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+}  // namespace
+
 Result<R2vPlan> ReadR2vPlan(const std::string& path) {
   std::ifstream in(path);
   if (!in) return Status::InvalidInput(FileError(path, "cannot be read", "check the path"));
   R2vPlan plan;
   std::string line;
-  std::vector<double> door_lengths;
+  std::vector<double> door_lengths, swing_doors, toilets;
   while (std::getline(in, line)) {
     std::istringstream ls(line);
     R2vItem it;
     if (!(ls >> it.x0 >> it.y0 >> it.x1 >> it.y1 >> it.category)) continue;
     const bool finite = std::isfinite(it.x0) && std::isfinite(it.y0) && std::isfinite(it.x1) && std::isfinite(it.y1);
     if (!finite || std::min({it.x0, it.y0, it.x1, it.y1}) < 0 || std::max({it.x0, it.y0, it.x1, it.y1}) > 1e4) continue;
-    if (it.category == "door") door_lengths.push_back(std::hypot(it.x1 - it.x0, it.y1 - it.y0));
+    if (!(ls >> it.kind)) it.kind = 0;
+    if (it.category == "door") {
+      const double length = std::hypot(it.x1 - it.x0, it.y1 - it.y0);
+      door_lengths.push_back(length);
+      if (it.kind == 1 || it.kind == 2) swing_doors.push_back(length);
+    }
+    if (it.category == "toilet") toilets.push_back(std::max(std::fabs(it.x1 - it.x0), std::fabs(it.y1 - it.y0)));
     plan.items.push_back(it);
   }
   if (plan.items.empty())
     return Status::InvalidInput(FileError(path, "no line of the form `x0 y0 x1 y1 category ...`: not an R2V plan",
                                           "pass a plan_*.txt of ../shared/data/r2v"));
-  std::sort(door_lengths.begin(), door_lengths.end());
-  if (door_lengths.empty() || door_lengths[door_lengths.size() / 2] < 1)
-    return Status::InvalidInput(FileError(path, "no door, so no scale (the median door is taken as 0.8 m)",
+  if (door_lengths.empty() || Median(door_lengths) < 1)
+    return Status::InvalidInput(FileError(path, "no door, so no scale (doors and toilets give the plan its size)",
                                           "add the plan's doors as `door` lines"));
   plan.doors = int(door_lengths.size());
-  plan.metres_per_unit = 0.8 / door_lengths[door_lengths.size() / 2];
+  // Scale: swing doors (kind 1 or 2) are 0.7 m wide and toilets 0.72 m long (the geometric mean of the two
+  // when a plan has both); a plan with neither takes its median opening as 0.8 m. All openings together are a
+  // poor ruler: kind 3 are double and sliding doors of 1.3-1.8 m, and where they are the majority the median
+  // shrinks a flat to a third of its area.
+  std::vector<double> log_scales;
+  if (Median(swing_doors) >= 1) log_scales.push_back(std::log(kR2vSwingDoorWidthM / Median(swing_doors)));
+  if (Median(toilets) >= 1) log_scales.push_back(std::log(kR2vToiletLengthM / Median(toilets)));
+  double mean = 0;
+  for (double l : log_scales) mean += l / double(log_scales.size());
+  plan.metres_per_unit = log_scales.empty() ? 0.8 / Median(door_lengths) : std::exp(mean);
   return plan;
 }
 

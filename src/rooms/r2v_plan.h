@@ -6,7 +6,8 @@
 //                                          rooms joined by each door)
 //
 // A plan line is `x0 y0 x1 y1 category a b`: walls and doors are segments, fixtures and room labels boxes.
-// Plans carry no scale: the median door is taken as 0.8 m wide. Rooms are flood-filled from their label
+// Plans carry no scale: swing doors are taken as 0.7 m wide and toilets as 0.72 m long (the median of each, the
+// geometric mean of the two), else the median opening as 0.8 m. Rooms are flood-filled from their label
 // boxes' centres with walls and doors as barriers; a region reaching the raster's border is the outside of a
 // plan that is not closed and is no room. Two labels in one region that disagree leave it untyped.
 #pragma once
@@ -24,11 +25,16 @@ namespace semvox {
 struct R2vItem {
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   std::string category;
+  int kind = 0;  // The first number after the category (doors: 1 and 2 swing doors, 3 double or sliding, ...).
 };
+
+// The rulers of a plan (ReadR2vPlan): a swing door's width and a toilet's length, metres.
+inline constexpr double kR2vSwingDoorWidthM = 0.7;
+inline constexpr double kR2vToiletLengthM = 0.72;
 
 struct R2vPlan {
   std::vector<R2vItem> items;
-  double metres_per_unit = 0;  // 0.8 m / median door length.
+  double metres_per_unit = 0;  // From the swing doors and toilets (ReadR2vPlan).
   int doors = 0;
 };
 

@@ -255,7 +255,7 @@ Status WriteRoomIdsPng(const std::string& path, const ImageU16& ids) {
 Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const RoomSegmentation& rooms, bool png_only,
                         const Eigen::Isometry3d& input_from_world) {
   const std::filesystem::path base(dir);
-  SEMVOX_RETURN_IF_ERROR(WriteRoomIdsPng((base / "rooms.png").string(), rooms.room_ids));
+  SEMVOX_RETURN_IF_ERROR(WriteRoomIdsPng((base / "rooms.png").string(), rooms.room_extent_ids));
   if (png_only) return Status::Ok();
   const std::vector<RoomDescription> described = DescribeRooms(plan, rooms);
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((base / "rooms.geojson").string(), RoomsToGeoJson(described, input_from_world)));
@@ -265,7 +265,7 @@ Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const Roo
 Status WriteRoomOutputs(const std::string& dir, const FloorPlan& plan, const RoomSegmentation& rooms,
                         const std::vector<RoomDescription>& described, const Eigen::Isometry3d& input_from_world) {
   const std::filesystem::path base(dir);
-  SEMVOX_RETURN_IF_ERROR(WriteRoomIdsPng((base / "rooms.png").string(), rooms.room_ids));
+  SEMVOX_RETURN_IF_ERROR(WriteRoomIdsPng((base / "rooms.png").string(), rooms.room_extent_ids));
   SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((base / "rooms.geojson").string(), RoomsToGeoJson(described, input_from_world)));
   return WriteFileAtomic((base / "rooms.svg").string(), RoomsToSvg(plan, rooms, described));
 }

@@ -50,9 +50,9 @@ struct RoomSegmentationOptions {
                                       // 0 = off. >= 0.
   double wall_gap_ratio = 1.0;        // distance: a wall-gap line separates rooms when its half length is
                                       // below this fraction of the smaller room's inscribed radius. > 0.
-  double min_room_radius_m = 0.6;     // distance: basins with a smaller inscribed radius never stay apart
+  double min_room_radius_m = 0.3;     // distance: basins with a smaller inscribed radius never stay apart
                                       // (alcoves, niches, gaps between furniture), metres. >= 0.
-  double min_room_area_m2 = 1.0;      // Smaller rooms merge into a neighbour, m². >= 0.
+  double min_room_area_m2 = 0.5;      // Smaller rooms merge into a neighbour, m² (a closet is 0.5 m²). >= 0.
   double min_seed_area_m2 = 1.0;      // morphological: pieces the erosion splits apart stay separate rooms
                                       // when both still cover this area, m². > 0.
   double max_speck_distance_m = 0.5;  // Unreached free cells join the nearest room within this, metres. >= 0.

@@ -25,6 +25,7 @@ bool PlanApartmentOptions::Check(std::string* error) const {
        << ". Violated constraint: 0 < window_sill_m < window_top_m < ceiling_m";
   else if (!(min_window_wall_m > 0)) os << "min_window_wall_m = " << min_window_wall_m << ". Violated constraint: > 0";
   else if (!(surface_cell_m > 0)) os << "surface_cell_m = " << surface_cell_m << ". Violated constraint: > 0";
+  else if (!(min_room_area_m2 >= 0)) os << "min_room_area_m2 = " << min_room_area_m2 << ". Violated constraint: >= 0";
   if (os.str().empty()) return true;
   if (error) *error = os.str();
   return false;
@@ -82,9 +83,26 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
   if (!o.Check(&error)) return Status::InvalidInput("plan apartment options: " + error);
   if (!(layout.resolution_m > 0) || layout.rooms.data.empty())
     return Status::InvalidInput("plan layout: no room raster");
+  // Rooms large enough to enter, renumbered 1..max_id in the order of their ids.
+  std::vector<int64_t> pixels;
+  for (uint16_t v : layout.rooms.data) {
+    if (v >= pixels.size()) pixels.resize(size_t(v) + 1, 0);
+    ++pixels[v];
+  }
+  std::vector<int> new_id(pixels.size(), 0);
+  std::vector<int> kept_type(1, 0);
   int max_id = 0;
-  for (uint16_t v : layout.rooms.data) max_id = std::max(max_id, int(v));
+  for (size_t id = 1; id < pixels.size(); ++id)
+    if (pixels[id] > 0 && double(pixels[id]) * layout.resolution_m * layout.resolution_m >= o.min_room_area_m2) {
+      new_id[id] = ++max_id;
+      kept_type.push_back(id < layout.room_type.size() ? layout.room_type[id] : 0);
+    }
   if (max_id == 0) return Status::InvalidInput("plan layout: no closed room (every region reaches the plan's border)");
+  ImageU16 room_raster = layout.rooms;
+  for (uint16_t& v : room_raster.data) v = uint16_t(new_id[v]);
+  PlanLayout kept = layout;  // The layout with only the kept rooms, numbered 1..max_id.
+  kept.rooms = room_raster;
+  kept.room_type = kept_type;
   for (const auto* list : {&layout.walls, &layout.doors})
     for (const PlanLayout::Segment& s : *list)
       if (!s.a.allFinite() || !s.b.allFinite()) return Status::InvalidInput("plan layout: a wall or door segment is not finite");
@@ -97,15 +115,15 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
   apt.floor_z_m = 0;
   apt.ceiling_z_m = H;
   apt.interior_wall_m = apt.exterior_wall_m = W;
-  apt.room_raster = layout.rooms;
+  apt.room_raster = room_raster;
   apt.room_raster_m = res;
   apt.room_raster_origin = layout.origin;
   // Rooms: bounding box and pixel area of each id.
   apt.rooms.resize(size_t(max_id));
   std::vector<int> cmin(size_t(max_id) + 1, 1 << 30), cmax(size_t(max_id) + 1, -1), rmin = cmin, rmax = cmax, count(size_t(max_id) + 1, 0);
-  for (int r = 0; r < layout.rooms.height; ++r)
-    for (int c = 0; c < layout.rooms.width; ++c)
-      if (const int id = layout.rooms.at(c, r)) {
+  for (int r = 0; r < room_raster.height; ++r)
+    for (int c = 0; c < room_raster.width; ++c)
+      if (const int id = room_raster.at(c, r)) {
         cmin[size_t(id)] = std::min(cmin[size_t(id)], c), cmax[size_t(id)] = std::max(cmax[size_t(id)], c);
         rmin[size_t(id)] = std::min(rmin[size_t(id)], r), rmax[size_t(id)] = std::max(rmax[size_t(id)], r);
         ++count[size_t(id)];
@@ -113,7 +131,7 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
   for (int id = 1; id <= max_id; ++id) {
     RoomGt& g = apt.rooms[size_t(id - 1)];
     g.id = id;
-    g.type_id = id < int(layout.room_type.size()) ? layout.room_type[size_t(id)] : 0;
+    g.type_id = kept_type[size_t(id)];
     if (count[size_t(id)] == 0) continue;  // An id the raster skips: an empty room.
     g.x0 = layout.origin.x() + cmin[size_t(id)] * res, g.x1 = layout.origin.x() + (cmax[size_t(id)] + 1) * res;
     g.y0 = layout.origin.y() + rmin[size_t(id)] * res, g.y1 = layout.origin.y() + (rmax[size_t(id)] + 1) * res;
@@ -129,7 +147,7 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
 
   // Floors and ceilings: rectangles of equal room id over the room pixels spread 3 pixels (under the walls and
   // across door gaps), merged row by row.
-  const ImageU16 spread = SpreadRooms(layout.rooms, int(std::ceil(0.15 / res)));
+  const ImageU16 spread = SpreadRooms(kept.rooms, int(std::ceil(0.15 / res)));
   std::map<std::tuple<int, int, int>, int> open;  // (c0, c1, id) -> first row of a rectangle still growing
   auto emit = [&](int c0, int c1, int id, int r0, int r1) {
     const double x0 = layout.origin.x() + c0 * res, x1 = layout.origin.x() + (c1 + 1) * res;
@@ -194,10 +212,10 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
       const double len = to - from - 0.4;  // 0.2 m of wall either side.
       if (len >= o.min_window_wall_m) {
         const double mid = 0.5 * (from + to);
-        const int ra = RoomAt(layout, at(mid, W / 2 + 0.3).x(), at(mid, W / 2 + 0.3).y());
-        const int rb = RoomAt(layout, at(mid, -W / 2 - 0.3).x(), at(mid, -W / 2 - 0.3).y());
-        const bool out_a = ra == 0 && RoomAt(layout, at(mid, W / 2 + 1).x(), at(mid, W / 2 + 1).y()) == 0;
-        const bool out_b = rb == 0 && RoomAt(layout, at(mid, -W / 2 - 1).x(), at(mid, -W / 2 - 1).y()) == 0;
+        const int ra = RoomAt(kept, at(mid, W / 2 + 0.3).x(), at(mid, W / 2 + 0.3).y());
+        const int rb = RoomAt(kept, at(mid, -W / 2 - 0.3).x(), at(mid, -W / 2 - 0.3).y());
+        const bool out_a = ra == 0 && RoomAt(kept, at(mid, W / 2 + 1).x(), at(mid, W / 2 + 1).y()) == 0;
+        const bool out_b = rb == 0 && RoomAt(kept, at(mid, -W / 2 - 1).x(), at(mid, -W / 2 - 1).y()) == 0;
         const int room = out_a && rb ? rb : out_b && ra ? ra : 0;
         const int type = room ? apt.rooms[size_t(room - 1)].type_id : -1;
         const bool wants = room && type != t.bathroom && type != t.storage && type != t.corridor && type != t.laundry;
@@ -223,7 +241,7 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
     // The room a face looks into: sampled just off the face.
     auto room_off = [&](double along, double perp) {
       const Eigen::Vector2d p = at(along, perp);
-      return RoomAt(layout, p.x(), p.y());
+      return RoomAt(kept, p.x(), p.y());
     };
     auto piece = [&](double t0, double t1, double z0, double z1) {
       if (t1 - t0 < 1e-6 || z1 - z0 < 1e-6) return;
@@ -275,8 +293,8 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
     if (dd.norm() < 1e-3) continue;
     const Eigen::Vector2d dir = dd.normalized(), nn(-dir.y(), dir.x()), c = 0.5 * (door.a + door.b);
     DoorGt g;
-    const int ra = RoomAt(layout, c.x() + 0.3 * nn.x(), c.y() + 0.3 * nn.y());
-    const int rb = RoomAt(layout, c.x() - 0.3 * nn.x(), c.y() - 0.3 * nn.y());
+    const int ra = RoomAt(kept, c.x() + 0.3 * nn.x(), c.y() + 0.3 * nn.y());
+    const int rb = RoomAt(kept, c.x() - 0.3 * nn.x(), c.y() - 0.3 * nn.y());
     g.room_a = ra ? ra : rb ? rb : -1;
     g.room_b = ra && rb ? rb : -1;
     g.center = c;
@@ -290,7 +308,7 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
     if (!lo.allFinite() || !hi.allFinite() || size.minCoeff() < 0.1) continue;
     const double h = f.label == kToilet ? 0.75 : f.label == kBathtub ? 0.55 : f.label == kSink ? 0.85 : f.label == kCounter ? 0.9 : 0.8;
     const Rgb8 colour = f.label == kCounter ? Rgb8{200, 195, 185} : Rgb8{240, 240, 238};
-    b.Begin(f.label, RoomAt(layout, c.x(), c.y()), Pose{c.x(), c.y(), 0, 0});
+    b.Begin(f.label, RoomAt(kept, c.x(), c.y()), Pose{c.x(), c.y(), 0, 0});
     b.Box(-size.x() / 2, -size.y() / 2, 0, size.x() / 2, size.y() / 2, h, colour, true);
     b.End();
   }

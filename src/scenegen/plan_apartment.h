@@ -48,6 +48,9 @@ struct PlanApartmentOptions {
   double window_top_m = 2.1;
   double min_window_wall_m = 1.4; // Exterior wall pieces at least this long (between doors) get a window. > 0.
   double surface_cell_m = 0.25;   // As ApartmentOptions::surface_cell_m. > 0.
+  // Regions of the raster smaller than this are no rooms (pipe shafts, cupboards no one walks into): left
+  // out of the ground truth, their floor kept, m². >= 0.
+  double min_room_area_m2 = 0.5;
 
   bool Check(std::string* error) const;
 };

@@ -131,14 +131,26 @@ TEST(R2vPlan, BadPlansAreOneClearError) {
 }
 
 TEST(R2vPlan, ClosedPlanRasterisesItsRoomsWithTypesAndDoors) {
-  // Two rooms of 100 x 100 units side by side, a door of 40 units (so 0.02 m per unit) in the wall between.
+  // Two rooms of 100 x 100 units side by side, a swing door of 35 units (0.7 m, so 0.02 m per unit) in the
+  // wall between.
   const std::string path = ::testing::TempDir() + "/two_rooms_plan.txt";
   std::ofstream(path) << "0 0 200 0 wall 1 1\n0 100 200 100 wall 1 1\n0 0 0 100 wall 1 1\n200 0 200 100 wall 1 1\n"
-                         "100 0 100 30 wall 1 1\n100 70 100 100 wall 1 1\n100 30 100 70 door 1 1\n"
+                         "100 0 100 30 wall 1 1\n100 65 100 100 wall 1 1\n100 30 100 65 door 1 1\n"
                          "40 40 60 60 bathroom 1 1\n140 40 160 60 bedroom 1 1\n";
   Result<R2vPlan> plan = ReadR2vPlan(path);
   ASSERT_TRUE(plan.ok()) << plan.status().message();
   EXPECT_NEAR(plan->metres_per_unit, 0.02, 1e-12);
+  {
+    // Scale rulers: a toilet of 36 units (0.72 m) with the door gives the geometric mean; wide openings
+    // (kind 3) alone do not count as doors of 0.7 m: without a swing door or a toilet the median opening is 0.8 m.
+    const std::string p2 = ::testing::TempDir() + "/rulers_plan.txt";
+    std::ofstream(p2) << "0 0 200 0 wall 1 1\n100 30 100 65 door 1 1\n10 10 28 46 toilet 1 1\n";
+    EXPECT_NEAR(ReadR2vPlan(p2)->metres_per_unit, std::sqrt(0.02 * 0.02), 1e-12);
+    std::ofstream(p2) << "0 0 200 0 wall 1 1\n100 30 100 65 door 1 1\n10 10 28 82 toilet 1 1\n";
+    EXPECT_NEAR(ReadR2vPlan(p2)->metres_per_unit, std::sqrt(0.02 * 0.01), 1e-12);
+    std::ofstream(p2) << "0 0 200 0 wall 1 1\n0 50 80 50 door 3 1\n0 90 100 90 door 3 2\n0 120 60 120 door 6 1\n";
+    EXPECT_NEAR(ReadR2vPlan(p2)->metres_per_unit, 0.01, 1e-12);
+  }
   const R2vRooms rooms = RasteriseR2vRooms(*plan);
   ASSERT_EQ(rooms.type_id.size(), 3u);
   EXPECT_EQ(rooms.type_id[1], 1);
