@@ -1,4 +1,4 @@
-// The optional ONNX backend of `semvox run` (issue 5, item 6): the user's scene and segmentation networks
+// The optional ONNX backend of `semvox run`: the user's scene and segmentation networks
 // (perception/onnx_models.h), loaded from the run's flags before anything is written.
 //
 //   --scene-model X.onnx  --scene-labels X.tsv   [--scene-input 224x224]

@@ -1,4 +1,4 @@
-// The room-type stage of `semvox run` (issue 7, item 4): room types for the segmented rooms from the per-view
+// The room-type stage of `semvox run`: room types for the segmented rooms from the per-view
 // room-type evidence and the semantic top view, by the room-type CRF (rooms/room_type_crf.h).
 //
 //   RunRoomTypeStage(plan, rooms, views, topview, options, outdir, &summary)

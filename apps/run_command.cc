@@ -132,7 +132,7 @@ Status RunPipeline(const RunArgs& args) {
                               << " free, " << counts[0] << " unknown; " << map.scan_positions.size()
                               << " scan positions (" << map.pocket_positions << " in pockets the grid missed); floor z = " << map.floor_z << ", ceiling z = " << map.ceiling_z);
 
-  // ---- render stage (issue 4): viewpoints and virtual views -> views.json [, views/*.png] ----
+  // ---- render stage: viewpoints and virtual views -> views.json [, views/*.png] ----
   t0 = Clock::now();
   c0 = CpuSeconds();
   progress.Begin("render");
@@ -140,9 +140,9 @@ Status RunPipeline(const RunArgs& args) {
   if (!renderer.ok()) return renderer.status();
   ViewsStageSummary views;
   views.seconds_build = Seconds(t0);
-  // The semantic stage (issue 6) gathers depth evidence from every kept view as it is rendered.
+  // The semantic stage gathers depth evidence from every kept view as it is rendered.
   std::unique_ptr<SemanticStage> semantic;
-  // ... and the support / clutter stage (issue 8) sees every classification view.
+  // ... and the support / clutter stage sees every classification view.
   std::unique_ptr<SupportClutterStage> support;
   const std::string models_dir = args.models_dir.empty() ? DefaultModelsDir() : args.models_dir;
   if (config.semantic.enabled) {
@@ -180,7 +180,7 @@ Status RunPipeline(const RunArgs& args) {
   timing["render_build"] = views.seconds_build;
   timing["render_trace"] = views.seconds_render;
   progress.End();
-  // ---- semantic stage (issue 6): classification views, Voxel-CRF ----
+  // ---- semantic stage: classification views, Voxel-CRF ----
   if (semantic) {
     t0 = Clock::now();
     c0 = CpuSeconds();
@@ -229,7 +229,7 @@ Status RunPipeline(const RunArgs& args) {
     const RoomSegmentation rooms = SegmentRooms(plan, config.rooms);
     nlohmann::ordered_json types_summary;
     if (semantic) {
-      // Room types (issue 7): the room-type CRF over the classification views' evidence and the semantic
+      // Room types: the room-type CRF over the classification views' evidence and the semantic
       // top view; it writes rooms.png / .geojson / .svg with types (split-off areas get new ids).
       std::vector<ViewRoomEvidence> evidence;
       for (const ClassifiedViewRoomEvidence& e : semantic->room_evidence()) {

@@ -1,4 +1,4 @@
-// The semantic stage of `semvox run` (issue 6): per-view classification of virtual views, evidence per
+// The semantic stage of `semvox run`: per-view classification of virtual views, evidence per
 // voxel, the Voxel-CRF, and the semantic exports (voxels.ply, map.ot, semantic_topview*.png).
 //
 //   SemanticStage stage(scene, map, renderer, config);       // selects the CRF's voxels

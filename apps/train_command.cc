@@ -1,4 +1,4 @@
-// `semvox train`: trains the per-view classifiers (issue 5) on generated training apartments, scores
+// `semvox train`: trains the per-view classifiers on generated training apartments, scores
 // them on the validation apartments and writes the model files and a report.
 //
 //   semvox train [-o models] [--train-seeds 0-39] [--val-seeds 100-109] [--max-rows 20000] [--crf-holdout 5]
@@ -6,7 +6,7 @@
 // The k-NN models learn from the training seeds but the last `crf-holdout` ones; the CRF weights are then
 // learned (negative log pseudo-likelihood) on those held-out seeds, whose k-NN unaries are not
 // self-matches. Writes OUT/{nyu4,second}.{image_knn,full_knn}.bin, OUT/{nyu4,second}.crf_weights.txt and
-// OUT/support_clutter.svm and OUT/object_proposals.svm (issue 8), OUT/train_report.json
+// OUT/support_clutter.svm and OUT/object_proposals.svm, OUT/train_report.json
 // (per level and method: pixel-wise global accuracy, average recall and per-class recall on the
 // validation views). Deterministic: the same seeds give the same bytes.
 #include <nlohmann/json.hpp>
@@ -278,7 +278,7 @@ Status RunTrain(const TrainArgs& args) {
   if (!room_knn.ok()) return Status::InvalidInput("room-type k-NN: " + room_knn.status().message());
   SEMVOX_RETURN_IF_ERROR(room_knn->Save(args.outdir + "/room_type_knn.bin"));
   report["room_type"]["train_views"] = room_labels.size();
-  {  // Room-type CRF (issue 7): statistics from all training seeds (+ R2V fixtures), the rest from the CRF seeds.
+  {  // Room-type CRF: statistics from all training seeds (+ R2V fixtures), the rest from the CRF seeds.
     RoomTypeTrainingOptions rt;
     rt.min_object_fraction = kRoomMinObjectFraction;
     rt.r2v_dir = DefaultR2vDirectory();
@@ -369,7 +369,7 @@ Status RunTrain(const TrainArgs& args) {
       std::printf("  %-9s global %.3f  average %.3f\n", methods[k], cms[l][size_t(k)].GlobalAccuracy(), cms[l][size_t(k)].AverageRecall());
     }
   }
-  // Support / clutter / other (issue 8, src/objects): RBF SVM on the support/clutter paper's Table 2 features
+  // Support / clutter / other (src/objects): RBF SVM on the support/clutter paper's Table 2 features
   // of every training view, scored with and without the dense CRF on the validation views.
   {
     SupportTrainingOptions support;

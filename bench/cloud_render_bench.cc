@@ -1,4 +1,4 @@
-// Clouds against meshes (issue 18, item 3): the same generated apartment as a mesh and as a simulated fused
+// Clouds against meshes: the same generated apartment as a mesh and as a simulated fused
 // cloud (`semvox generate --seed N --cloud`), rendered from the same poses; build and trace CPU seconds of
 // each, and how far the cloud's views agree with the mesh's: the share of pixels that hit in both, the NYU40
 // label of the hit primitive (face or point attribute "label") and the depth.

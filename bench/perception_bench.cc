@@ -1,4 +1,4 @@
-// Per-view classifier cost (issue 5): milliseconds per view for SLIC superpixels, the 15-D observations,
+// Per-view classifier cost: milliseconds per view for SLIC superpixels, the 15-D observations,
 // the two k-NN unaries, the tree CRF (exact sum-product + max-product) and the union CRF (loopy BP), on
 // one core (OpenCV limited to one thread). Not a test: prints a table.
 //

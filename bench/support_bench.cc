@@ -1,4 +1,4 @@
-// Support / clutter / other (issue 8): permutohedral against brute-force mean-field, and per-view cost.
+// Support / clutter / other: permutohedral against brute-force mean-field, and per-view cost.
 //
 //   support_bench [--model models/support_clutter.svm] [--seed 100] [--repeats 3] [--refinement 1] [--refinement-5d 1]
 //                 [--small-refinement 1] [--small-refinement-5d 1] [--exact-smoothness 1] [--height-grid 0.25]

@@ -1,4 +1,4 @@
-// Voxel-CRF benchmark (issue 6): accuracy of the model variants in the Voxel-CRF paper's form (Tables 1-3)
+// Voxel-CRF benchmark: accuracy of the model variants in the Voxel-CRF paper's form (Tables 1-3)
 // and solver performance. Not a test.
 //
 //   voxelcrf_bench --accuracy [--seeds 100-104] [--models DIR] [--work DIR]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Whole-pipeline speed and labels (issue 18, item 5): `semvox run` on the bundled demo, four generated flats
+# Whole-pipeline speed and labels: `semvox run` on the bundled demo, four generated flats
 # (seeds 104 and 106 -- 57 and 91 m2 -- as mesh and as simulated fused cloud) and the ScanNet studio; per run
 # the wall and CPU seconds of every stage (summary.json "seconds" / "cpu_seconds"), the classification views
 # chosen of the candidates and their coverage, the process's peak memory (GNU time), and the labels of the

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A real scan end to end (issue 16, item 5): `semvox run` on the ScanNet studio (scene0000_00 in
+# A real scan end to end: `semvox run` on the ScanNet studio (scene0000_00 in
 # ../shared/data, a sparse fused colour point cloud), timed, then `semvox eval --boxes` against its 27
 # furniture boxes: the per-box table (voxels inside, recall, top three labels), per-class recall, mean box
 # recall, floor recall, wall share, room types and the run's seconds per stage (docs/metrics.md,

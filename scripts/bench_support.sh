@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Support / clutter / other (issue 8): the dense CRF's fast filters (separable smoothness, cubic height grid,
+# Support / clutter / other: the dense CRF's fast filters (separable smoothness, cubic height grid,
 # permutohedral 5-D lattice; the pipeline's DenseCrfOptions{}, which the test uses too) vs brute-force
 # mean-field on the test's 40x30 image and on a 64x48 view (marginal difference, times), at 640x480
 # (speed-up, brute force extrapolated from sampled pixels), and the per-view cost of the classifier.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Voxel-CRF figures (issue 6): model variants on validation apartments, then the solvers on one apartment.
+# Voxel-CRF figures: model variants on validation apartments, then the solvers on one apartment.
 #   scripts/bench_voxelcrf.sh [--seeds 100-104] [--seed 324]
 set -euo pipefail
 cd "$(dirname "$0")/.."

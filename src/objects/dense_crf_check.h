@@ -1,4 +1,4 @@
-// The small image on which the permutohedral mean-field is checked against brute force (issue 8), shared
+// The small image on which the permutohedral mean-field is checked against brute force, shared
 // by DenseCrf.PermutohedralMeanFieldMatchesBruteForce (tests/objects/permutohedral_test.cc) and
 // bench/support_bench.cc, so that both measure the same case with the same settings.
 //

@@ -1,4 +1,4 @@
-// The object-search-priors stage of `semvox run` (issue 8): per view support / clutter / other and generic
+// The object-search-priors stage of `semvox run`: per view support / clutter / other and generic
 // object proposals, fused over the views; exports support_clutter.ply, support_clutter_topview.png and
 // object_proposals.json.
 //

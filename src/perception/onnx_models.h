@@ -1,4 +1,4 @@
-// Optional ONNX backend (issue 5, item 6): a user's own networks, run by OpenCV DNN, in place of the
+// Optional ONNX backend: a user's own networks, run by OpenCV DNN, in place of the
 // built-in per-view classifiers.
 //
 //   Result<OnnxSceneModel> scene = OnnxSceneModel::Load("resnet18_places365.onnx", "places_labels.tsv");

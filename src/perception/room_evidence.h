@@ -1,4 +1,4 @@
-// Room-type evidence of one view (issue 5, item 5): a k-NN (Eq. 4 again) over a global descriptor of the
+// Room-type evidence of one view: a k-NN (Eq. 4 again) over a global descriptor of the
 // view: the histogram of its (predicted) object classes, colour and texture statistics and the spatial
 // layout of its depth, giving a distribution over the 12 room types of room_types.tsv (index = id - 1).
 // A view with too few object pixels holds too little evidence: all its mass goes to "other" (id 12).

@@ -1,4 +1,4 @@
-// The interactive 3D view of report.html (issue 20): the occupied voxels of voxels.ply on the canonical grid,
+// The interactive 3D view of report.html: the occupied voxels of voxels.ply on the canonical grid,
 // packed compactly for the page and drawn there by three.js (inlined, no URL fetched).
 //
 //   Result<View3dVoxels> v = View3dVoxelsFromPly(ply, "OUTDIR/voxels.ply", frame);  // cells + attributes

@@ -1,4 +1,4 @@
-// semvox report.html: the 3D view (issue 20). Compiled into the binary and inlined after three.js by
+// semvox report.html: the 3D view. Compiled into the binary and inlined after three.js by
 // src/report/view3d.cc, which also writes the switches and the packed voxels (<script id="v3-data">).
 //
 // Drawing: every shown voxel is a cube on the view's grid; only faces between a shown voxel and an empty or

@@ -1,4 +1,4 @@
-// The Voxel-CRF's result as a semantic map and its exports (issue 6, item 5).
+// The Voxel-CRF's result as a semantic map and its exports.
 //
 //   SemanticMap map = MakeSemanticMap(grid, nodes, evidence, result, model);
 //   WriteVoxelsPly(map, "voxels.ply");                 // one vertex per occupied voxel

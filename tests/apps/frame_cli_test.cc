@@ -1,4 +1,4 @@
-// End to end (issue 16, item 1): `semvox run` on a generated apartment turned by 17 degrees about z, tilted
+// Canonical frame end to end: `semvox run` on a generated apartment turned by 17 degrees about z, tilted
 // by 2 degrees and shifted by (1.3, -2.1, 0.8) m finds the same rooms and the same labels as on the original.
 // The transformed run works in its estimated canonical frame and writes voxels.ply in the input (transformed)
 // frame; each of its voxels, mapped back into the original frame, is matched to the nearest voxel of the
@@ -72,8 +72,8 @@ TEST(FrameCli, TurnedTiltedShiftedApartmentGivesTheSameRoomsAndLabels) {
   const auto t0 = std::chrono::steady_clock::now();
   testing::ScratchDir dir("frame_cli");
   const std::string gt = dir.File("gt"), a = dir.File("a"), b = dir.File("b"), log = dir.File("log.txt");
-  // The test's short configuration, with every candidate classified: the greedy view cover (the default,
-  // issue 18) picks other views in a turned frame, so it would test the cover's choice as well as the frame.
+  // The test's short configuration, with every candidate classified: the greedy view cover (the default)
+  // picks other views in a turned frame, so it would test the cover's choice as well as the frame.
   // Measured with the cover (Release, 2026-12-02): visible-voxel accuracy 0.835 original, 0.799 moved
   // (agreement 0.930): the original frame gained 2 points over classifying every view, the moved one kept
   // its accuracy.

@@ -1,4 +1,4 @@
-// A real scan end to end (issue 16, item 5): `semvox run` on the ScanNet studio (scene0000_00, a sparse fused
+// A real scan end to end: `semvox run` on the ScanNet studio (scene0000_00, a sparse fused
 // colour point cloud from ../shared/data) and `semvox eval --boxes` against its 27 furniture boxes
 // (docs/metrics.md, "Real scans: box scores"). Skipped when the data is absent, and in the sanitizer build
 // (one run takes 3-8 minutes in Release on 2 cores, depending on load). The per-box table goes to the test log.

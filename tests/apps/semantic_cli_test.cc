@@ -1,4 +1,4 @@
-// End to end (issue 6): `semvox run` on a generated apartment writes the semantic outputs, and `semvox eval`
+// End to end: `semvox run` on a generated apartment writes the semantic outputs, and `semvox eval`
 // scores them against the generator's ground truth above stated floors.
 #include <gtest/gtest.h>
 #include <sys/wait.h>

@@ -1,4 +1,4 @@
-// Canonical frame estimate (mapping/scene_frame.h, issue 16 item 1): a generated apartment (seed 102)
+// Canonical frame estimate (mapping/scene_frame.h): a generated apartment (seed 102)
 // turned about z, tilted and shifted, as a mesh and as a cloud sampled from it without normals; the
 // estimator must recover up within 0.3 degrees, the yaw (mod 90) within 0.5 degrees and the floor within
 // 2 cm. Upside-down and 30-degree-tilted scans warn naming --up; an axis-aligned scene gives exactly the

@@ -209,10 +209,11 @@ TEST(Voxelize, DenseCloudAgreesWithTheMeshAndDoesNotLeak) {
   }
 }
 
-// Issue 17, item 2: a closet 0.9 m x 1.2 m behind a door (0.6 m wide, lintel at 2.0 m) in the east wall of the
-// 4 m x 3 m room: the 1 m grid has no position in it (the nearest grid point is 7.5 cm from its wall), so
-// without pocket positions most of it stays unknown; with them it gets a position and is seen through. The
-// sealed inside of a closed wardrobe mesh (1.2 x 0.9 x 2.1 m) is clear too but borders no seen free space.
+// Pocket positions on real layouts: a closet 0.9 m x 1.2 m behind a door (0.6 m wide, lintel at 2.0 m) in
+// the east wall of the 4 m x 3 m room: the 1 m grid has no position in it (the nearest grid point is 7.5 cm
+// from its wall), so without pocket positions most of it stays unknown; with them it gets a position and is
+// seen through. The sealed inside of a closed wardrobe mesh (1.2 x 0.9 x 2.1 m) is clear too but borders no
+// seen free space.
 TEST(Voxelize, ClosetBehindADoorGetsAPocketPositionAndIsSeenThrough) {
   const double T = 0.25, H = 2.5;
   std::vector<Box> boxes = RoomWithTable();

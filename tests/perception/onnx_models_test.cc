@@ -1,4 +1,4 @@
-// The ONNX backend (issue 5, item 6) and its `semvox run` flags (apps/onnx_stage.h) on tiny networks this
+// The ONNX backend and its `semvox run` flags (apps/onnx_stage.h) on tiny networks this
 // test writes with python3-onnx: a 1x1 convolution (each pixel's class scores are a linear function of its
 // colour) as the segmentation network, global average pooling + Gemm as the scene network. Every output is
 // checked against the same maths done here by hand. Skips when python3 with the onnx module is missing.

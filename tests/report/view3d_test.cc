@@ -1,4 +1,4 @@
-// The 3D view of report.html (issue 20): voxels.ply onto the view's grid (canonical frame, sizes, attributes,
+// The 3D view of report.html: voxels.ply onto the view's grid (canonical frame, sizes, attributes,
 // merging, room groups, packing) and, in headless Chromium with software WebGL (skipped without chromium or
 // three.js), the page itself: no console output, #3d fills the window with the label colours, switches and the
 // fragment change the picture, a click names the voxel, and a page without voxels or WebGL says so in one line.

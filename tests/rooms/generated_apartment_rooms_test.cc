@@ -1,4 +1,4 @@
-// Room segmentation on generated apartments with known rooms (issue 7, tests): the clean mesh of each
+// Room segmentation on generated apartments with known rooms: the clean mesh of each
 // apartment is voxelised, the floor plan (walls, doors from their lintels, clutter) computed from the voxels
 // and segmented with the default options, and the rooms scored (Bormann et al. recall and precision) against
 // the generator's rooms. Ground truth: rooms_gt ids at the plan's cell centres, with the rooms of one open-plan

@@ -1,4 +1,4 @@
-// Voxel-CRF (issue 6): energy/feature consistency, visibility (Eq. 9) on an analytic scene, plane
+// Voxel-CRF: energy/feature consistency, visibility (Eq. 9) on an analytic scene, plane
 // completion behind a cabinet, learning, and the map.ot / voxels.ply round trips.
 #include <gtest/gtest.h>
 
