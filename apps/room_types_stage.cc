@@ -13,7 +13,7 @@ namespace semvox {
 
 Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
                         const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options, const std::string& outdir,
-                        nlohmann::ordered_json* summary, const Eigen::Isometry3d& input_from_world) {
+                        nlohmann::ordered_json* summary, const Eigen::Isometry3d& input_from_world, ImageU16* room_ids) {
   const std::string model_path = options.model_path.empty() ? DefaultRoomTypeModelPath() : options.model_path;
   Result<RoomTypeModel> model = LoadRoomTypeModel(model_path);
   if (!model.ok()) return model.status();
@@ -44,6 +44,7 @@ Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, co
   }
   const std::filesystem::path base(outdir);
   SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(outdir, plan, result->rooms, described, input_from_world));
+  if (room_ids) *room_ids = result->rooms.room_extent_ids;  // What rooms.png holds.
   SEMVOX_RETURN_IF_ERROR(WriteImage((base / "rooms_types.png").string(), RenderRoomTypes(plan, result->pixel_types)));
   if (summary) {
     nlohmann::ordered_json& j = (*summary)["room_types"];

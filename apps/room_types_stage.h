@@ -6,7 +6,8 @@
 //     OUTDIR/rooms.geojson (per room: id, type, type_id, type_probabilities, probability, second_type,
 //     second_type_id, second_probability, area_m2, ceiling_height_m), OUTDIR/rooms.svg and
 //     OUTDIR/rooms_types.png (the plan coloured by each pixel's most likely type),
-//     and adds a "room_types" object to `summary` (method, model, rooms with their types, timings).
+//     and adds a "room_types" object to `summary` (method, model, rooms with their types, timings);
+//     `room_ids` (optional) receives what rooms.png holds, for the exports that follow.
 // The model is options.model_path, or models/room_type_crf.json ($SEMVOX_MODELS overrides the directory).
 #pragma once
 
@@ -25,6 +26,7 @@ namespace semvox {
 
 Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
                         const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options, const std::string& outdir,
-                        nlohmann::ordered_json* summary, const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
+                        nlohmann::ordered_json* summary, const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity(),
+                        ImageU16* room_ids = nullptr);
 
 }  // namespace semvox

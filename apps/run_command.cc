@@ -228,6 +228,7 @@ Status RunPipeline(const RunArgs& args) {
     const FloorPlan plan = FloorPlanFromVoxels(final_grid, map.floor_z, map.ceiling_z, occ, config.floor_plan);
     const RoomSegmentation rooms = SegmentRooms(plan, config.rooms);
     nlohmann::ordered_json types_summary;
+    ImageU16 room_ids = rooms.room_extent_ids;  // What rooms.png holds, for the semantic exports.
     if (semantic) {
       // Room types: the room-type CRF over the classification views' evidence and the semantic
       // top view; it writes rooms.png / .geojson / .svg with types (split-off areas get new ids).
@@ -246,7 +247,7 @@ Status RunPipeline(const RunArgs& args) {
       RoomTypeCrfOptions rt = config.room_types;
       if (rt.model_path.empty()) rt.model_path = models_dir + "/room_type_crf.json";
       if (rt.shape_model_path.empty()) rt.shape_model_path = models_dir + "/room_shape.json";
-      SEMVOX_RETURN_IF_ERROR(RunRoomTypeStage(plan, rooms, evidence, topview, rt, args.outdir, &types_summary, input_from_world));
+      SEMVOX_RETURN_IF_ERROR(RunRoomTypeStage(plan, rooms, evidence, topview, rt, args.outdir, &types_summary, input_from_world, &room_ids));
     } else {
       SEMVOX_RETURN_IF_ERROR(WriteRoomOutputs(args.outdir, plan, rooms, false, input_from_world));
     }
@@ -256,9 +257,7 @@ Status RunPipeline(const RunArgs& args) {
     if (semantic) {
       t0 = Clock::now();
       c0 = CpuSeconds();
-      Result<ImageU16> room_ids = ReadImageU16((fs::path(args.outdir) / "rooms.png").string());
-      if (!room_ids.ok()) return room_ids.status();
-      SEMVOX_RETURN_IF_ERROR(semantic->Write(args.outdir, &room_ids.value(), config.occupancy.band_min_above_floor_m,
+      SEMVOX_RETURN_IF_ERROR(semantic->Write(args.outdir, &room_ids, config.occupancy.band_min_above_floor_m,
                                              config.occupancy.band_max_above_floor_m, occ.image, input_from_world));
       if (support) SEMVOX_RETURN_IF_ERROR(support->Write(args.outdir, final_grid, input_from_world));
       timing["semantic_exports"] = Seconds(t0);
