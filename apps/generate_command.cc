@@ -123,8 +123,7 @@ Result<PlanLayout> LayoutOfR2vPlan(const std::string& path, int* unclosed) {
                                           "check the plan's coordinates"));
   layout.rooms = std::move(rooms.ids);
   layout.room_type = std::move(rooms.type_id);
-  // RasteriseR2vRooms draws plan point (x, y) at pixel round(x s / res) + 5.
-  layout.origin = Eigen::Vector2d(-5.5 * layout.resolution_m, -5.5 * layout.resolution_m);
+  layout.origin = Eigen::Vector2d(rooms.origin_m, rooms.origin_m);
   const std::map<std::string, int> fixture = {{"toilet", nyu40::kToilet}, {"bathtub", nyu40::kBathtub},
                                               {"washing_basin", nyu40::kSink}, {"cooking_counter", nyu40::kCounter}};
   *unclosed = 0;

@@ -10,7 +10,6 @@
 #include "apps/onnx_stage.h"
 #include "apps/room_types_stage.h"
 #include "apps/semantic_stage.h"
-#include "io/image_io.h"
 #include "objects/support_stage.h"
 #include "report/report.h"
 #include "core/file_util.h"

@@ -87,7 +87,9 @@ R2vRooms RasteriseR2vRooms(const R2vPlan& plan, double resolution_m) {
   const double s = plan.metres_per_unit / resolution_m;  // Raster pixels per plan unit.
   const int W = int(max_x * s) + 12, H = int(max_y * s) + 12;
   if (!(s > 0) || W > 20000 || H > 20000) return out;
-  auto P = [&](double x, double y) { return cv::Point(int(std::lround(x * s)) + 5, int(std::lround(y * s)) + 5); };
+  constexpr int kMargin = 5;
+  out.origin_m = -(kMargin + 0.5) * resolution_m;  // Plan point x lands in pixel round(x s) + kMargin.
+  auto P = [&](double x, double y) { return cv::Point(int(std::lround(x * s)) + kMargin, int(std::lround(y * s)) + kMargin); };
   cv::Mat1b barriers(H, W, uchar(0));
   for (const R2vItem& it : plan.items)
     if (it.category == "wall" || it.category == "door") cv::line(barriers, P(it.x0, it.y0), P(it.x1, it.y1), 255, 2);

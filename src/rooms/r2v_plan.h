@@ -49,6 +49,9 @@ bool IsR2vRoomLabel(const std::string& category);
 
 struct R2vRooms {
   double resolution_m = 0.05;
+  // Plan metres (units x metres_per_unit) of pixel (0, 0)'s lower corner: pixel (c, r) covers
+  // [origin_m + c res, origin_m + (c + 1) res) on both axes (the raster keeps a 5-pixel margin).
+  double origin_m = 0;
   ImageU16 ids;                               // Room id per pixel, 0 outside rooms, walls and doors.
   std::vector<int> type_id;                   // Per id (index 0 unused): room_types.tsv id, 0 untyped.
   std::vector<std::vector<int>> connections;  // Per id: the rooms a door of the plan joins it to.

@@ -35,20 +35,13 @@ namespace {
 
 using scenegen::ApartmentBuilder;
 using scenegen::Pose;
-
 using scenegen::RoomTypeIds;
-
-int RoomAt(const PlanLayout& l, double x, double y) {
-  const int c = int(std::floor((x - l.origin.x()) / l.resolution_m)), r = int(std::floor((y - l.origin.y()) / l.resolution_m));
-  if (c < 0 || r < 0 || c >= l.rooms.width || r >= l.rooms.height) return 0;
-  return l.rooms.at(c, r);
-}
 
 // Room ids spread by up to `reach` pixels into the pixels of no room (4-neighbour rings, lowest id first on
 // ties): the floor under walls and in door gaps belongs to a neighbouring room.
 ImageU16 SpreadRooms(const ImageU16& rooms, int reach) {
   ImageU16 out = rooms;
-  std::vector<int> dist(out.data.size(), rooms.data.empty() ? 0 : -1);
+  std::vector<int> dist(out.data.size(), -1);
   std::deque<int> queue;
   for (size_t i = 0; i < out.data.size(); ++i)
     if (out.data[i]) dist[i] = 0, queue.push_back(int(i));
@@ -100,9 +93,6 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
   if (max_id == 0) return Status::InvalidInput("plan layout: no closed room (every region reaches the plan's border)");
   ImageU16 room_raster = layout.rooms;
   for (uint16_t& v : room_raster.data) v = uint16_t(new_id[v]);
-  PlanLayout kept = layout;  // The layout with only the kept rooms, numbered 1..max_id.
-  kept.rooms = room_raster;
-  kept.room_type = kept_type;
   for (const auto* list : {&layout.walls, &layout.doors})
     for (const PlanLayout::Segment& s : *list)
       if (!s.a.allFinite() || !s.b.allFinite()) return Status::InvalidInput("plan layout: a wall or door segment is not finite");
@@ -147,7 +137,7 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
 
   // Floors and ceilings: rectangles of equal room id over the room pixels spread 3 pixels (under the walls and
   // across door gaps), merged row by row.
-  const ImageU16 spread = SpreadRooms(kept.rooms, int(std::ceil(0.15 / res)));
+  const ImageU16 spread = SpreadRooms(apt.room_raster, int(std::ceil(0.15 / res)));
   std::map<std::tuple<int, int, int>, int> open;  // (c0, c1, id) -> first row of a rectangle still growing
   auto emit = [&](int c0, int c1, int id, int r0, int r1) {
     const double x0 = layout.origin.x() + c0 * res, x1 = layout.origin.x() + (c1 + 1) * res;
@@ -212,10 +202,10 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
       const double len = to - from - 0.4;  // 0.2 m of wall either side.
       if (len >= o.min_window_wall_m) {
         const double mid = 0.5 * (from + to);
-        const int ra = RoomAt(kept, at(mid, W / 2 + 0.3).x(), at(mid, W / 2 + 0.3).y());
-        const int rb = RoomAt(kept, at(mid, -W / 2 - 0.3).x(), at(mid, -W / 2 - 0.3).y());
-        const bool out_a = ra == 0 && RoomAt(kept, at(mid, W / 2 + 1).x(), at(mid, W / 2 + 1).y()) == 0;
-        const bool out_b = rb == 0 && RoomAt(kept, at(mid, -W / 2 - 1).x(), at(mid, -W / 2 - 1).y()) == 0;
+        const int ra = RoomIdAt(apt, at(mid, W / 2 + 0.3).x(), at(mid, W / 2 + 0.3).y());
+        const int rb = RoomIdAt(apt, at(mid, -W / 2 - 0.3).x(), at(mid, -W / 2 - 0.3).y());
+        const bool out_a = ra == 0 && RoomIdAt(apt, at(mid, W / 2 + 1).x(), at(mid, W / 2 + 1).y()) == 0;
+        const bool out_b = rb == 0 && RoomIdAt(apt, at(mid, -W / 2 - 1).x(), at(mid, -W / 2 - 1).y()) == 0;
         const int room = out_a && rb ? rb : out_b && ra ? ra : 0;
         const int type = room ? apt.rooms[size_t(room - 1)].type_id : -1;
         const bool wants = room && type != t.bathroom && type != t.storage && type != t.corridor && type != t.laundry;
@@ -241,7 +231,7 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
     // The room a face looks into: sampled just off the face.
     auto room_off = [&](double along, double perp) {
       const Eigen::Vector2d p = at(along, perp);
-      return RoomAt(kept, p.x(), p.y());
+      return RoomIdAt(apt, p.x(), p.y());
     };
     auto piece = [&](double t0, double t1, double z0, double z1) {
       if (t1 - t0 < 1e-6 || z1 - z0 < 1e-6) return;
@@ -293,8 +283,8 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
     if (dd.norm() < 1e-3) continue;
     const Eigen::Vector2d dir = dd.normalized(), nn(-dir.y(), dir.x()), c = 0.5 * (door.a + door.b);
     DoorGt g;
-    const int ra = RoomAt(kept, c.x() + 0.3 * nn.x(), c.y() + 0.3 * nn.y());
-    const int rb = RoomAt(kept, c.x() - 0.3 * nn.x(), c.y() - 0.3 * nn.y());
+    const int ra = RoomIdAt(apt, c.x() + 0.3 * nn.x(), c.y() + 0.3 * nn.y());
+    const int rb = RoomIdAt(apt, c.x() - 0.3 * nn.x(), c.y() - 0.3 * nn.y());
     g.room_a = ra ? ra : rb ? rb : -1;
     g.room_b = ra && rb ? rb : -1;
     g.center = c;
@@ -308,7 +298,7 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
     if (!lo.allFinite() || !hi.allFinite() || size.minCoeff() < 0.1) continue;
     const double h = f.label == kToilet ? 0.75 : f.label == kBathtub ? 0.55 : f.label == kSink ? 0.85 : f.label == kCounter ? 0.9 : 0.8;
     const Rgb8 colour = f.label == kCounter ? Rgb8{200, 195, 185} : Rgb8{240, 240, 238};
-    b.Begin(f.label, RoomAt(kept, c.x(), c.y()), Pose{c.x(), c.y(), 0, 0});
+    b.Begin(f.label, RoomIdAt(apt, c.x(), c.y()), Pose{c.x(), c.y(), 0, 0});
     b.Box(-size.x() / 2, -size.y() / 2, 0, size.x() / 2, size.y() / 2, h, colour, true);
     b.End();
   }

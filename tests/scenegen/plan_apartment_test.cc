@@ -8,18 +8,17 @@
 //    error line and nothing written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include "core/labels.h"
 #include "scenegen/apartment_io.h"
 #include "scenegen/plan_apartment.h"
+#include "tests/test_util.h"
 
 namespace semvox {
 namespace {
@@ -155,51 +154,39 @@ TEST(PlanApartment, RejectsLayoutsWithoutRoomsAndBadOptions) {
   EXPECT_FALSE(ApartmentFromLayout(LShapedFlat(), o).ok());
 }
 
-int RunSemvox(const std::string& args, const fs::path& log) {
-  const int st = std::system((std::string(SEMVOX_BINARY) + " " + args + " >" + log.string() + " 2>&1").c_str());
+int RunSemvox(const std::string& args, const std::string& log) {
+  const int st = std::system((std::string(SEMVOX_BINARY) + " " + args + " >" + log + " 2>&1").c_str());
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
-std::string Slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream os;
-  os << f.rdbuf();
-  return os.str();
-}
-
 TEST(GenerateCommand, PlanBuildsARealLayoutAndRejectsBadPlans) {
+  using testing::ReadText;
   const std::string plan = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/r2v/plan_0300.txt";
   if (!fs::exists(SEMVOX_BINARY)) GTEST_SKIP() << "semvox binary not built";
-  const fs::path root = fs::temp_directory_path() / ("semvox_plan_cli_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  fs::create_directories(root);
-  const fs::path log = root / "log.txt";
+  const testing::ScratchDir dir("plan_cli");
+  const std::string log = dir.File("log.txt");
   // Bad plans: one error line naming the file, exit 2, no output directory.
-  std::ofstream(root / "not_a_plan.txt") << "hello world\n";
-  std::ofstream(root / "no_door.txt") << "0 0 100 0 wall 1 1\n100 0 100 100 wall 1 1\n10 10 40 30 bedroom 1 1\n";
+  testing::WriteText(dir.File("not_a_plan.txt"), "hello world\n");
+  testing::WriteText(dir.File("no_door.txt"), "0 0 100 0 wall 1 1\n100 0 100 100 wall 1 1\n10 10 40 30 bedroom 1 1\n");
   for (const char* bad : {"not_a_plan.txt", "no_door.txt", "missing.txt"}) {
-    EXPECT_EQ(RunSemvox("generate --plan " + (root / bad).string() + " -o " + (root / "out_bad").string(), log), 2) << bad;
-    const std::string text = Slurp(log);
+    EXPECT_EQ(RunSemvox("generate --plan " + dir.File(bad) + " -o " + dir.File("out_bad"), log), 2) << bad;
+    const std::string text = ReadText(log);
     EXPECT_NE(text.find(bad), std::string::npos) << text;
     EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
-    EXPECT_FALSE(fs::exists(root / "out_bad")) << bad;
+    EXPECT_FALSE(fs::exists(dir.File("out_bad"))) << bad;
   }
-  if (!fs::exists(plan)) {
-    fs::remove_all(root);
-    GTEST_SKIP() << "no R2V plans in ../shared/data/r2v";
-  }
-  ASSERT_EQ(RunSemvox("generate --plan " + plan + " --seed 3 -o " + (root / "a").string(), log), 0) << Slurp(log);
-  ASSERT_EQ(RunSemvox("generate --plan " + plan + " --seed 3 -o " + (root / "b").string(), log), 0) << Slurp(log);
+  if (!fs::exists(plan)) GTEST_SKIP() << "no R2V plans in ../shared/data/r2v";
+  ASSERT_EQ(RunSemvox("generate --plan " + plan + " --seed 3 -o " + dir.File("a"), log), 0) << ReadText(log);
+  ASSERT_EQ(RunSemvox("generate --plan " + plan + " --seed 3 -o " + dir.File("b"), log), 0) << ReadText(log);
   for (const char* name : {"mesh.ply", "gt_mesh.ply", "gt.json", "rooms_gt.png", "topview_gt.png"}) {
-    const std::string a = Slurp(root / "a" / name);
+    const std::string a = ReadText(dir.File(std::string("a/") + name));
     EXPECT_FALSE(a.empty()) << name;
-    EXPECT_EQ(a, Slurp(root / "b" / name)) << name << ": same plan and seed, same bytes";
+    EXPECT_EQ(a, ReadText(dir.File(std::string("b/") + name))) << name << ": same plan and seed, same bytes";
   }
-  const std::string gt = Slurp(root / "a" / "gt.json");
+  const std::string gt = ReadText(dir.File("a/gt.json"));
   EXPECT_NE(gt.find("\"plan\": \"" + plan + "\""), std::string::npos);
   // plan_0300: 11 closed regions, 3 of them pipe shafts under 0.5 m² that are no rooms: 8 rooms.
   EXPECT_NE(gt.find("\"rooms\": 8"), std::string::npos) << gt.substr(gt.find("\"counts\""), 200);
-  fs::remove_all(root);
 }
 
 }  // namespace
