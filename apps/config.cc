@@ -205,6 +205,7 @@ const std::vector<Field>& Fields() {
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf, plane_truncation, 0.001, 0.5, "Robust P^n truncation Q of plane cliques, fraction of the clique"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf, object_truncation, 0.001, 0.5, "Robust P^n truncation Q of object cliques, fraction of the clique"));
     f.push_back(SEMVOX_INT_FIELD("semantic", semantic.crf, min_object_voxels, 2, 1000000, "smallest object segment with a clique, voxels"));
+    f.push_back(SEMVOX_BOOL_FIELD("semantic", semantic.crf, keep_scan_points, "point clouds: voxels holding an input point stay occupied (the Voxel-CRF labels them but does not empty them)"));
     f.push_back(SEMVOX_INT_FIELD("semantic", semantic.crf.planes, min_voxels, 3, 1000000, "smallest plane piece, voxels"));
     f.push_back(SEMVOX_DOUBLE_FIELD("semantic", semantic.crf.planes, normal_angle_deg, 0.1, 45, "plane detection: normal tolerance, degrees"));
     // ---- end semantic ----

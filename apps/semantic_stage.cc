@@ -5,6 +5,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -180,6 +181,7 @@ Result<std::unique_ptr<SemanticStage>> SemanticStage::Create(const VoxelMap& map
   if (impl->model.num_classes() != impl->level.num_classes())
     return Status::InvalidInput(FileError(model_path, "class count differs from the per-view classifier's", "re-run `semvox train`"));
   impl->nodes = SelectVoxelCrfNodes(map.grid, map.floor_z, map.ceiling_z, options.evidence);
+  MarkPointNodes(map.point_voxels, &impl->nodes);
   impl->acc = std::make_unique<EvidenceAccumulator>(map.grid, impl->nodes, impl->level.num_classes(), options.evidence);
   SEMVOX_INFO("voxel CRF: " << impl->nodes.size() << " nodes (" << impl->nodes.count_state(VoxelState::kOccupied) << " occupied, "
                             << impl->nodes.count_state(VoxelState::kFree) << " free, " << impl->nodes.count_state(VoxelState::kUnknown)
@@ -490,7 +492,9 @@ nlohmann::ordered_json SemanticStage::Summary() const {
   j["nodes"] = {{"total", s.nodes.size()},
                 {"occupied", s.nodes.count_state(VoxelState::kOccupied)},
                 {"free", s.nodes.count_state(VoxelState::kFree)},
-                {"unknown", s.nodes.count_state(VoxelState::kUnknown)}};
+                {"unknown", s.nodes.count_state(VoxelState::kUnknown)},
+                {"holding_points", std::count(s.nodes.holds_point.begin(), s.nodes.holds_point.end(), uint8_t(1))},
+                {"kept_occupied", s.options.crf.keep_scan_points ? std::count(s.nodes.holds_point.begin(), s.nodes.holds_point.end(), uint8_t(1)) : 0}};
   j["rays"] = s.evidence.rays.size();
   j["planes"] = s.result.num_planes;
   j["object_cliques"] = s.result.num_object_cliques;

@@ -232,6 +232,20 @@ void VoxelizeCloudSurface(const PointCloud& cloud, const std::vector<Eigen::Vect
   });
 }
 
+std::vector<uint32_t> PointVoxels(const std::vector<Eigen::Vector3f>& points, const VoxelGrid& grid) {
+  std::vector<uint32_t> out(points.size(), UINT32_MAX);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 8192), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const auto c = grid.CellOf(points[i].cast<double>());
+      if (grid.Contains(c[0], c[1], c[2])) out[i] = uint32_t(grid.Index(c[0], c[1], c[2]));
+    }
+  });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  if (!out.empty() && out.back() == UINT32_MAX) out.pop_back();
+  return out;
+}
+
 size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_range_m, VoxelGrid* grid,
                      const ProgressCallback& progress) {
   std::vector<size_t> occupied;
@@ -311,6 +325,7 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, co
     CloudGeometry geo = EstimateCloudGeometry(scene.cloud, options.cloud_normal_neighbors);
     const std::vector<Eigen::Vector3f>& normals = scene.cloud.normals.empty() ? geo.normals : scene.cloud.normals;
     VoxelizeCloudSurface(scene.cloud, normals, geo.spacing, &grid);
+    map.point_voxels = PointVoxels(scene.cloud.points, grid);
     for (size_t i = 0; i < scene.cloud.points.size(); ++i)
       if (std::fabs(normals[i].z()) >= cos_h) {
         const double s = std::max<double>(geo.spacing[i], 1e-3);

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -53,6 +54,9 @@ struct VoxelMap {
   double floor_z = 0.0;     // Metres, input frame.
   bool ceiling_found = false;
   double ceiling_z = 0.0;
+  // Clouds: the grid indices of the voxels that hold at least one input point, ascending (the disc splats
+  // of VoxelizeCloudSurface occupy more). Empty for meshes, whose occupied voxels are all exact surface.
+  std::vector<uint32_t> point_voxels;
   std::vector<Eigen::Vector3d> scan_positions;  // The grid's, then the pockets'.
   int pocket_positions = 0;  // Of scan_positions, how many were added for pockets (the last ones).
   bool enclosed = true;     // False when no candidate passed the enclosure test (degraded input).
@@ -88,6 +92,8 @@ void VoxelizeMeshSurface(const Mesh& mesh, VoxelGrid* grid);
 // of that radius in its tangent plane. `normals` may be empty.
 void VoxelizeCloudSurface(const PointCloud& cloud, const std::vector<Eigen::Vector3f>& normals,
                           const std::vector<float>& spacing, VoxelGrid* grid);
+// The grid indices of the voxels holding at least one of `points`, ascending, without repeats.
+std::vector<uint32_t> PointVoxels(const std::vector<Eigen::Vector3f>& points, const VoxelGrid& grid);
 // Marks free voxels seen from `positions`. Returns the number of rays cast.
 size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_range_m, VoxelGrid* grid,
                      const ProgressCallback& progress = {});

@@ -265,6 +265,7 @@ VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes&
   p.f_depth_occ.assign(size_t(n), 0.f);
   p.f_density_occ.assign(size_t(n), 0.f);
   p.state = nodes.initial_state;
+  if (options.keep_scan_points && nodes.holds_point.size() == size_t(n)) p.keep_occupied = nodes.holds_point;
   std::vector<uint8_t> visible(size_t(n), 0);
   const bool have_layout = !model.layout.neg_log_p.empty() && model.layout.num_classes == K;
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096), [&](const tbb::blocked_range<int>& r) {
@@ -411,7 +412,8 @@ CrfEnergy VoxelCrfProblem::Energy(const std::array<double, kNumVoxelCrfWeights>&
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const uint8_t st = state[i];
       u[i] = float(w[kWDepthEmpty] * f_depth_empty[i] + w[kWDensityEmpty] * f_density_empty[i] +
-                   w[kWMapOccupiedEmpty] * (st == uint8_t(VoxelState::kOccupied)));
+                   w[kWMapOccupiedEmpty] * (st == uint8_t(VoxelState::kOccupied)) +
+                   (keep_occupied.empty() || !keep_occupied[i] ? 0.0 : double(kKeepOccupiedCost)));
       const double occ = w[kWDepthOccupied] * f_depth_occ[i] + w[kWDensityOccupied] * f_density_occ[i] +
                          w[kWUnseenOccupied] * (st == uint8_t(VoxelState::kUnknown)) +
                          w[kWMapFreeOccupied] * (st == uint8_t(VoxelState::kFree)) + w[kWOccupiedBias];

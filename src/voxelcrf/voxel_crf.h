@@ -109,6 +109,11 @@ struct VoxelCrfOptions {
   double plane_truncation = 0.25;    // Q / clique size for planes. (0, 0.5].
   double object_truncation = 0.25;   // Q / clique size for object segments. (0, 0.5].
   int min_object_voxels = 20;        // Smallest object segment that gets a clique. >= 2.
+  // Voxels that hold a point of the input cloud (VoxelCrfNodes::holds_point) stay occupied: the CRF chooses
+  // their label but may not empty them. The scan saw a surface there; without this a sparse real cloud
+  // (one point per voxel or fewer) loses about half of its surface voxels, furniture first, because its
+  // depth and density evidence is weak. Disc-splat voxels without a point may still be emptied.
+  bool keep_scan_points = true;
   PlaneDetectionOptions planes;
   // Sweeps after the first lower the Voxel-CRF energy by 1e-4 - 1e-7 of |E| on generated apartments, and the
   // last one only confirms that no move is left: stop once a sweep gains less than 1e-5 of |E|.
@@ -127,6 +132,8 @@ struct VoxelCrfProblem {
   // appearance (per label), depth, density, unseen, bias, layout (per label).
   std::vector<float> f_depth_empty, f_density_empty, f_depth_occ, f_density_occ;
   std::vector<uint8_t> state;       // Per node: the map's VoxelState.
+  std::vector<uint8_t> keep_occupied;  // Per node: 1 = the empty label is barred (kKeepOccupiedCost); empty: none.
+  static constexpr float kKeepOccupiedCost = 1e4f;
   std::vector<float> f_appearance;  // N x K, 0 where not visible.
   std::vector<float> f_layout;      // N x K.
   std::vector<float> f_segment;     // N x K, -log P(class | segment shape); 0 outside segments; empty: none.

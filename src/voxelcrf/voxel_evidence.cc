@@ -30,6 +30,13 @@ namespace {
 constexpr int kBlock = 8;
 }
 
+void MarkPointNodes(const std::vector<uint32_t>& point_voxels, VoxelCrfNodes* nodes) {
+  nodes->holds_point.assign(nodes->size(), 0);
+  for (uint32_t v : point_voxels)
+    if (size_t(v) < nodes->node_of_voxel.size())
+      if (const int32_t node = nodes->node_of_voxel[v]; node >= 0) nodes->holds_point[size_t(node)] = 1;
+}
+
 VoxelCrfNodes SelectVoxelCrfNodes(const VoxelGrid& grid, double floor_z, double ceiling_z, const VoxelEvidenceOptions& options) {
   const auto& d = grid.dims();
   const double res = grid.resolution();

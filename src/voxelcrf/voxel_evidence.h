@@ -52,6 +52,8 @@ struct VoxelCrfNodes {
   std::vector<int32_t> node_of_voxel;  // Per VoxelGrid::Index: node id or -1.
   std::vector<uint32_t> voxel;         // Per node: VoxelGrid::Index.
   std::vector<uint8_t> initial_state;  // Per node: the map's VoxelState.
+  std::vector<uint8_t> holds_point;    // Per node: 1 where the voxel holds a point of the input cloud
+                                       // (MarkPointNodes); empty when none are known (meshes).
   // Blocks: nodes [block_begin[b], block_begin[b + 1]) with bounding sphere (centre, radius).
   std::vector<uint32_t> block_begin;
   std::vector<Eigen::Vector3f> block_centre;
@@ -61,6 +63,8 @@ struct VoxelCrfNodes {
 };
 
 VoxelCrfNodes SelectVoxelCrfNodes(const VoxelGrid& grid, double floor_z, double ceiling_z, const VoxelEvidenceOptions& options);
+// Sets `holds_point` from the grid indices of the voxels that hold input points (VoxelMap::point_voxels).
+void MarkPointNodes(const std::vector<uint32_t>& point_voxels, VoxelCrfNodes* nodes);
 
 // One classified-view ray: from `origin` (index into VoxelEvidence::origins) along `direction` up to
 // `max_t` metres; its observation is row `observation` of VoxelEvidence::observations.

@@ -2,6 +2,7 @@
 // completion behind a cabinet, learning, and the map.ot / voxels.ply round trips.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "core/labels.h"
@@ -308,6 +309,83 @@ TEST(VoxelCrf, PlaneCompletionLabelsTheWallBehindACabinetAsWall) {
   size_t completed_wall = 0;
   for (const auto& r : sm.occupied) completed_wall += r.completed && r.label == nyu40::kWall && CabinetRoom::BehindCabinet(r.centre.cast<double>());
   EXPECT_EQ(completed_wall, behind_wall);
+}
+
+// The cabinet room as a sparse real scan delivers it: points scattered over the surfaces at random, about
+// one per 5 cm voxel face (the ScanNet studio holds 1.25 points per occupied voxel), no normals, no colours.
+Scene SparseCloudOf(const Mesh& m, double per_m2, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  Scene s;
+  s.format = "test";
+  for (const auto& f : m.faces) {
+    const V a = m.vertices[size_t(f[0])].cast<double>(), b = m.vertices[size_t(f[1])].cast<double>(), c = m.vertices[size_t(f[2])].cast<double>();
+    const double expected = 0.5 * (b - a).cross(c - a).norm() * per_m2;
+    const int n = int(expected) + (u01(rng) < expected - std::floor(expected) ? 1 : 0);
+    for (int k = 0; k < n; ++k) {
+      double r1 = u01(rng), r2 = u01(rng);
+      if (r1 + r2 > 1) r1 = 1 - r1, r2 = 1 - r2;
+      s.cloud.points.push_back((a + r1 * (b - a) + r2 * (c - a)).cast<float>());
+    }
+  }
+  return s;
+}
+
+// With an uninformative classifier (a real scan's views say little), the point-cloud Voxel-CRF weights empty
+// voxels the scan has points in; keep_scan_points bars that, and only that: every voxel holding a point
+// stays occupied, and the map records exactly the voxels holding points.
+TEST(VoxelCrf, SparseCloudKeepsEveryVoxelThatHoldsAPoint) {
+  const Scene scene = SparseCloudOf(MakeCabinetRoom().mesh, 400.0, 3);
+  const VoxelMap map = MapOf(scene);
+  const VoxelGrid& g = map.grid;
+  {  // point_voxels: the distinct cells of the points, ascending.
+    std::vector<uint32_t> cells;
+    for (const auto& p : scene.cloud.points) {
+      const auto c = g.CellOf(p.cast<double>());
+      if (g.Contains(c[0], c[1], c[2])) cells.push_back(uint32_t(g.Index(c[0], c[1], c[2])));
+    }
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    EXPECT_EQ(map.point_voxels, cells);
+    for (uint32_t v : cells) EXPECT_EQ(g.state(v), VoxelState::kOccupied);
+  }
+  const LabelLevel level = SecondLevel();
+  const int K = level.num_classes();
+  VoxelCrfNodes nodes = SelectVoxelCrfNodes(g, map.floor_z, map.ceiling_z, VoxelEvidenceOptions{});
+  MarkPointNodes(map.point_voxels, &nodes);
+  const size_t holding = size_t(std::count(nodes.holds_point.begin(), nodes.holds_point.end(), uint8_t(1)));
+  EXPECT_EQ(holding, map.point_voxels.size());  // Every occupied voxel is a node.
+  ASSERT_GT(holding, 2000u);
+  EvidenceAccumulator acc(g, nodes, K, VoxelEvidenceOptions{});
+  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
+  ASSERT_TRUE(renderer.ok()) << renderer.status().message();
+  ViewsOptions vo;
+  vo.width = 160;
+  vo.height = 120;
+  Result<ViewSet> views = RenderViews(*renderer, map, vo, [&](const ViewRecord& r, const RenderedView& view) {
+    if (!r.kept()) return Status::Ok();
+    acc.AddDepthView(view);
+    acc.AddClassifiedView(view, nullptr, std::vector<float>(size_t(view.camera.width) * view.camera.height * K, 1.f / float(K)));
+    return Status::Ok();
+  });
+  ASSERT_TRUE(views.ok()) << views.status().message();
+  const VoxelEvidence ev = std::move(acc).Finish();
+  Result<VoxelCrfModel> model = VoxelCrfModel::Load(std::string(SEMVOX_SOURCE_DIR) + "/models/voxel_crf_cloud.txt");
+  ASSERT_TRUE(model.ok()) << model.status().message();
+  ASSERT_EQ(model->num_classes(), K);
+  auto occupied_points = [&](bool keep) {
+    VoxelCrfOptions o;
+    o.keep_scan_points = keep;
+    VoxelCrfResult result;
+    EXPECT_TRUE(SolveVoxelCrf(g, nodes, ev, map.floor_z, map.ceiling_z, *model, o, &result).ok());
+    size_t n = 0;
+    for (size_t i = 0; i < nodes.size(); ++i) n += nodes.holds_point[i] && result.labels[i] != 0;
+    return n;
+  };
+  EXPECT_EQ(occupied_points(true), holding);
+  const size_t without = occupied_points(false);
+  std::printf("voxels holding points: %zu; occupied without keep_scan_points: %zu\n", holding, without);
+  EXPECT_LT(double(without), 0.9 * double(holding)) << without << " of " << holding << " point voxels occupied without the option";
 }
 
 TEST(SemanticExports, VoxelsPlyAndSemanticOctreeRoundTrip) {
