@@ -18,18 +18,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kGtHint = "expected {\"axis_align_matrix\": 4x4 rows, \"boxes_in_aligned_frame\": [{\"class\", \"nyu40\", "
-                                "\"centre_size\": [cx, cy, cz, dx, dy, dz]}]}; see docs/metrics.md";
-
-Status GtError(const std::string& name, const std::string& what) { return Status::InvalidInput(FileError(name, what, kGtHint)); }
-
-// A finite number at j, else false.
-bool Number(const nlohmann::json& j, double* v) {
-  if (!j.is_number()) return false;
-  *v = j.get<double>();
-  return std::isfinite(*v);
-}
-
 double Ratio(size_t num, size_t den) { return den ? double(num) / double(den) : 0.0; }
 
 std::string LabelName(int id) { return id >= 0 && id < kNumNyu40 ? Nyu40Labels()[size_t(id)].name : "id " + std::to_string(id); }
@@ -43,61 +31,6 @@ bool Matches(int predicted, int box_label) {
 }
 
 }  // namespace
-
-Result<BoxGroundTruth> ParseBoxGroundTruth(const std::string& text, const std::string& name) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    return GtError(name, std::string("not valid JSON: ") + e.what());
-  }
-  if (!j.is_object()) return GtError(name, "expected a JSON object at the top level");
-  BoxGroundTruth gt;
-  gt.path = name;
-  const auto m = j.find("axis_align_matrix");
-  if (m == j.end()) return GtError(name, "missing field axis_align_matrix");
-  if (!m->is_array() || m->size() != 4) return GtError(name, "axis_align_matrix: expected 4 rows of 4 numbers");
-  for (int r = 0; r < 4; ++r) {
-    const nlohmann::json& row = (*m)[size_t(r)];
-    if (!row.is_array() || row.size() != 4) return GtError(name, "axis_align_matrix: expected 4 rows of 4 numbers");
-    for (int c = 0; c < 4; ++c)
-      if (!Number(row[size_t(c)], &gt.axis_align(r, c)))
-        return GtError(name, "axis_align_matrix[" + std::to_string(r) + "][" + std::to_string(c) + "]: expected a finite number");
-  }
-  const auto b = j.find("boxes_in_aligned_frame");
-  if (b == j.end()) return GtError(name, "missing field boxes_in_aligned_frame");
-  if (!b->is_array()) return GtError(name, "boxes_in_aligned_frame: expected an array of boxes");
-  for (size_t i = 0; i < b->size(); ++i) {
-    const nlohmann::json& box = (*b)[i];
-    const std::string where = "boxes_in_aligned_frame[" + std::to_string(i) + "]";
-    if (!box.is_object()) return GtError(name, where + ": expected an object");
-    GroundTruthBox g;
-    const auto cls = box.find("class");
-    if (cls == box.end() || !cls->is_string()) return GtError(name, where + ".class: missing or not a string");
-    g.class_name = cls->get<std::string>();
-    const auto id = box.find("nyu40");
-    if (id == box.end() || !id->is_number_integer()) return GtError(name, where + ".nyu40: missing or not an integer");
-    g.nyu40 = id->get<int>();
-    if (g.nyu40 < 1 || g.nyu40 >= kNumNyu40) return GtError(name, where + ".nyu40: " + std::to_string(g.nyu40) + " is outside 1..40");
-    const auto cs = box.find("centre_size");
-    if (cs == box.end() || !cs->is_array() || cs->size() != 6) return GtError(name, where + ".centre_size: expected 6 numbers (cx cy cz dx dy dz)");
-    for (int k = 0; k < 6; ++k) {
-      double v;
-      if (!Number((*cs)[size_t(k)], &v)) return GtError(name, where + ".centre_size[" + std::to_string(k) + "]: expected a finite number");
-      if (k < 3) g.centre[k] = v;
-      else if (v < 0) return GtError(name, where + ".centre_size[" + std::to_string(k) + "]: negative size");
-      else g.size[k - 3] = v;
-    }
-    gt.boxes.push_back(std::move(g));
-  }
-  return gt;
-}
-
-Result<BoxGroundTruth> ReadBoxGroundTruth(const std::string& path) {
-  std::string bytes;
-  SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
-  return ParseBoxGroundTruth(bytes, path);
-}
 
 Result<RunVoxels> ReadRunVoxels(const std::string& path, double voxel_size_m) {
   Result<PlyData> ply = ReadPly(path);

@@ -19,27 +19,11 @@
 #include <vector>
 
 #include "core/status.h"
+#include "dataset/scan_boxes.h"
 #include "eval/evaluate.h"
 
 namespace semvox {
 
-struct GroundTruthBox {
-  std::string class_name;    // As in gt.json ("table", "garbagebin", ...), free text.
-  int nyu40 = 0;             // NYU40 id, 1..40.
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // Aligned frame, metres.
-  Eigen::Vector3d size = Eigen::Vector3d::Zero();    // Full extents along the aligned axes, metres, >= 0.
-};
-
-struct BoxGroundTruth {
-  std::string path;                                   // For messages.
-  Eigen::Matrix4d axis_align = Eigen::Matrix4d::Identity();  // Input (scan) frame -> aligned frame.
-  std::vector<GroundTruthBox> boxes;
-};
-
-// Parses gt.json text; `name` names the file in errors. A missing or malformed field gives one
-// kInvalidInput line naming the file and the field ("boxes_in_aligned_frame[3].centre_size: expected 6 numbers").
-Result<BoxGroundTruth> ParseBoxGroundTruth(const std::string& json_text, const std::string& name);
-Result<BoxGroundTruth> ReadBoxGroundTruth(const std::string& path);
 
 // The occupied voxels of a run: centres in the input frame (metres) and NYU40 labels.
 struct RunVoxels {

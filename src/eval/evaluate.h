@@ -24,7 +24,7 @@
 #include "core/image.h"
 #include "core/status.h"
 #include "mapping/occupancy_map.h"
-#include "scenegen/apartment_io.h"
+#include "dataset/ground_truth.h"
 
 namespace semvox {
 
