@@ -489,12 +489,13 @@ nlohmann::ordered_json SemanticStage::Summary() const {
   }
   j["view_selection"] = sel;
   j["skipped_classification_views"] = s.skipped_views;
+  const auto holding_points = std::count(s.nodes.holds_point.begin(), s.nodes.holds_point.end(), uint8_t(1));
   j["nodes"] = {{"total", s.nodes.size()},
                 {"occupied", s.nodes.count_state(VoxelState::kOccupied)},
                 {"free", s.nodes.count_state(VoxelState::kFree)},
                 {"unknown", s.nodes.count_state(VoxelState::kUnknown)},
-                {"holding_points", std::count(s.nodes.holds_point.begin(), s.nodes.holds_point.end(), uint8_t(1))},
-                {"kept_occupied", s.options.crf.keep_scan_points ? std::count(s.nodes.holds_point.begin(), s.nodes.holds_point.end(), uint8_t(1)) : 0}};
+                {"holding_points", holding_points},
+                {"kept_occupied", s.options.crf.keep_scan_points ? holding_points : 0}};
   j["rays"] = s.evidence.rays.size();
   j["planes"] = s.result.num_planes;
   j["object_cliques"] = s.result.num_object_cliques;

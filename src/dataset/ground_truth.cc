@@ -26,8 +26,8 @@ Result<GroundTruth> ReadGroundTruth(const std::string& dir) {
   gt.dir = dir;
   try {
     const nlohmann::json j = nlohmann::json::parse(bytes);
-    if (j.value("format", "") != "semvox-apartment-gt")
-      return Status::InvalidInput(FileError(path, "not a semvox ground-truth file (format != semvox-apartment-gt)",
+    if (j.value("format", "") != kGroundTruthFormat)
+      return Status::InvalidInput(FileError(path, std::string("not a semvox ground-truth file (format != ") + kGroundTruthFormat + ")",
                                             "pass a directory written by `semvox generate --seed N`"));
     gt.floor_z_m = j.at("floor_z_m").get<double>();
     gt.ceiling_z_m = j.at("ceiling_z_m").get<double>();

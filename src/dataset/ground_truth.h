@@ -34,10 +34,12 @@ struct FloorGrid {
   bool PixelOf(double x, double y, int* c, int* r) const;
 };
 
-
 // Value of topview_gt.png pixels covered by a solid whose inside no scanner can see within the height
 // band (the core of a wall, the body of a wardrobe whose top is above the band): not scored.
 inline constexpr uint16_t kTopViewHidden = 65535;
+
+// gt.json's "format" field: the generator writes it, ReadGroundTruth requires it.
+inline constexpr const char* kGroundTruthFormat = "semvox-apartment-gt";
 
 // What `semvox eval` needs from a ground-truth directory.
 struct GroundTruth {

@@ -152,7 +152,7 @@ std::string GroundTruthJson(const Apartment& apt, const FloorGrid& g, const Grou
   const auto& labels = Nyu40Labels();
   const auto& types = RoomTypes();
   ordered_json j;
-  j["format"] = "semvox-apartment-gt";
+  j["format"] = kGroundTruthFormat;
   j["version"] = 1;
   j["seed"] = apt.seed;
   if (!apt.plan.empty()) j["plan"] = apt.plan;  // Absent for drawn layouts: their files stay as they were.
