@@ -92,7 +92,56 @@ void CubicGrid::Build(const float* features, int n, int d, const std::vector<dou
   }
 }
 
+namespace {
+
+// Splat and slice of one point, M channels (M = 0: m at run time). `corner_offset` / `corner_weight`: the
+// 4^(d-1) prefix corners' node offsets and weights; `last`: the 4 weights of the last axis, whose nodes are
+// contiguous (stride 1), so that one corner touches 4 * m consecutive floats of the node-major grid.
+template <int M>
+void SplatPoint(const int64_t* corner_offset, const float* corner_weight, int corners, const float* last, const float* value,
+                int m_runtime, int64_t base, float* grid) {
+  const int m = M > 0 ? M : m_runtime;
+  float u[4 * 8];  // 4 nodes x m channels (m <= 8 on this path).
+  for (int j = 0; j < 4; ++j)
+    for (int ch = 0; ch < m; ++ch) u[j * m + ch] = last[j] * value[ch];
+  for (int c = 0; c < corners; ++c) {
+    float* dst = grid + size_t(base + corner_offset[c]) * size_t(m);
+    const float w = corner_weight[c];
+    for (int i = 0; i < 4 * m; ++i) dst[i] += w * u[i];
+  }
+}
+
+template <int M>
+void SlicePoint(const int64_t* corner_offset, const float* corner_weight, int corners, const float* last, const float* grid,
+                int m_runtime, int64_t base, float* out) {
+  const int m = M > 0 ? M : m_runtime;
+  float acc[4 * 8] = {};
+  for (int c = 0; c < corners; ++c) {
+    const float* src = grid + size_t(base + corner_offset[c]) * size_t(m);
+    const float w = corner_weight[c];
+    for (int i = 0; i < 4 * m; ++i) acc[i] += w * src[i];
+  }
+  for (int ch = 0; ch < m; ++ch) out[ch] = last[0] * acc[ch] + last[1] * acc[m + ch] + last[2] * acc[2 * m + ch] + last[3] * acc[3 * m + ch];
+}
+
+}  // namespace
+
 void CubicGrid::Filter(const float* in, int m, std::vector<float>* out) const {
+  if (m > 8) {
+    // Wide inputs: filter in groups of at most 8 channels (the per-point buffers above hold 4 x 8 values).
+    out->assign(size_t(n_) * size_t(m), 0.f);
+    std::vector<float> part_in, part_out;
+    for (int first = 0; first < m; first += 8) {
+      const int k = std::min(8, m - first);
+      part_in.resize(size_t(n_) * size_t(k));
+      for (int p = 0; p < n_; ++p)
+        std::copy_n(in + size_t(p) * size_t(m) + size_t(first), k, &part_in[size_t(p) * size_t(k)]);
+      Filter(part_in.data(), k, &part_out);
+      for (int p = 0; p < n_; ++p)
+        std::copy_n(&part_out[size_t(p) * size_t(k)], k, out->data() + size_t(p) * size_t(m) + size_t(first));
+    }
+    return;
+  }
   const size_t cells = size_t(cells_), mm = size_t(m);
   // Corners of the first d - 1 axes (the last axis has stride 1: its 4 nodes are contiguous).
   int prefix = 1;
@@ -104,7 +153,7 @@ void CubicGrid::Filter(const float* in, int m, std::vector<float>* out) const {
     prefix_offset[size_t(c)] = off;
   }
   // The 4^(d-1) weights of point p's prefix corners (same order as prefix_offset: axis d-2 fastest).
-  auto prefix_weights = [&](int p, double* w) {
+  auto prefix_weights = [&](int p, float* w) {
     w[0] = 1;
     int count = 1;
     for (int k = 0; k + 1 < d_; ++k) {
@@ -114,78 +163,99 @@ void CubicGrid::Filter(const float* in, int m, std::vector<float>* out) const {
       count *= 4;
     }
   };
+  auto splat = [&](int p, const float* w, float* g) {
+    const float* wl = &weight_[(size_t(p) * size_t(d_) + size_t(d_ - 1)) * 4];
+    const float* src = in + size_t(p) * mm;
+    switch (m) {
+      case 1: SplatPoint<1>(prefix_offset.data(), w, prefix, wl, src, m, base_[size_t(p)], g); break;
+      case 3: SplatPoint<3>(prefix_offset.data(), w, prefix, wl, src, m, base_[size_t(p)], g); break;
+      case 4: SplatPoint<4>(prefix_offset.data(), w, prefix, wl, src, m, base_[size_t(p)], g); break;
+      default: SplatPoint<0>(prefix_offset.data(), w, prefix, wl, src, m, base_[size_t(p)], g); break;
+    }
+  };
   // Splat into a fixed number of partial grids (contiguous ranges of points; node-major, m channels per
-  // node), summed in a fixed order: deterministic whatever the thread count.
+  // node, float), summed in a fixed order: deterministic whatever the thread count.
   constexpr int kChunks = 4;
-  std::vector<std::vector<double>> partial(kChunks);
+  std::vector<std::vector<float>> partial(kChunks);
   tbb::parallel_for(0, kChunks, [&](int chunk) {
-    std::vector<double>& g = partial[size_t(chunk)];
-    g.assign(cells * mm, 0.0);
-    std::vector<double> w(static_cast<size_t>(prefix)), v(mm);
+    std::vector<float>& g = partial[size_t(chunk)];
+    g.assign(cells * mm, 0.f);
+    std::vector<float> w(static_cast<size_t>(prefix));
     const int begin = int(int64_t(n_) * chunk / kChunks), end = int(int64_t(n_) * (chunk + 1) / kChunks);
     for (int p = begin; p < end; ++p) {
       prefix_weights(p, w.data());
-      const float* wl = &weight_[(size_t(p) * size_t(d_) + size_t(d_ - 1)) * 4];
-      const float* src = in + size_t(p) * mm;
-      for (int c = 0; c < prefix; ++c) {
-        double* dst = &g[size_t(base_[size_t(p)] + prefix_offset[size_t(c)]) * mm];
-        for (int j = 0; j < 4; ++j) {
-          const double wj = w[size_t(c)] * wl[j];
-          for (size_t ch = 0; ch < mm; ++ch) dst[size_t(j) * mm + ch] += wj * src[ch];
-        }
-      }
+      splat(p, w.data(), g.data());
     }
   });
-  std::vector<double> grid(std::move(partial[0])), next(cells * mm, 0.0);
+  std::vector<float> grid(std::move(partial[0])), next(cells * mm, 0.f);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, cells * mm, 1 << 14), [&](const tbb::blocked_range<size_t>& range) {
     for (int chunk = 1; chunk < kChunks; ++chunk)
       for (size_t i = range.begin(); i < range.end(); ++i) grid[i] += partial[size_t(chunk)][i];
   });
   partial.clear();
-  // Separable blur along each axis: lines of the grid (all channels) in parallel.
+  // Separable blur along each axis. Axes before the last: the nodes at one position of the axis form a
+  // contiguous run of stride * m values (all later axes and channels), so an output run is a weighted sum of
+  // whole input runs (vectorisable). The last axis (stride 1): lines of len nodes, double accumulation.
   for (int k = 0; k < d_; ++k) {
     const std::vector<double>& taps = taps_[size_t(k)];
     const int radius = int(taps.size()) - 1;
     const int len = size_[size_t(k)];
     const int64_t stride = stride_[size_t(k)];
-    const int64_t lines = int64_t(cells) / len;
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, lines, 16), [&](const tbb::blocked_range<int64_t>& range) {
-      std::vector<double> line(size_t(len) * mm), acc(mm);
-      for (int64_t l = range.begin(); l < range.end(); ++l) {
-        // Line l: all axes but k; its first node has index (l / stride) * stride * len + l % stride.
-        const int64_t start = (l / stride) * stride * len + l % stride;
-        for (int i = 0; i < len; ++i)
-          std::copy_n(&grid[size_t(start + int64_t(i) * stride) * mm], mm, &line[size_t(i) * mm]);
-        for (int i = 0; i < len; ++i) {
-          std::fill(acc.begin(), acc.end(), 0.0);
+    if (stride > 1) {
+      const size_t run = size_t(stride) * mm;
+      const int64_t blocks = int64_t(cells) / (int64_t(len) * stride);
+      std::vector<float> tapf(taps.begin(), taps.end());
+      tbb::parallel_for(tbb::blocked_range<int64_t>(0, blocks * len, 1), [&](const tbb::blocked_range<int64_t>& range) {
+        for (int64_t r = range.begin(); r < range.end(); ++r) {
+          const int64_t block = r / len;
+          const int i = int(r % len);
+          const size_t first = size_t(block) * size_t(len) * run;
+          float* dst = &next[first + size_t(i) * run];
+          std::fill(dst, dst + run, 0.f);
           const int a = std::max(0, i - radius), z = std::min(len - 1, i + radius);
           for (int j = a; j <= z; ++j) {
-            const double t = taps[size_t(std::abs(j - i))];
-            const double* src = &line[size_t(j) * mm];
-            for (size_t ch = 0; ch < mm; ++ch) acc[ch] += t * src[ch];
+            const float t = tapf[size_t(std::abs(j - i))];
+            const float* src = &grid[first + size_t(j) * run];
+            for (size_t v = 0; v < run; ++v) dst[v] += t * src[v];
           }
-          std::copy_n(acc.data(), mm, &next[size_t(start + int64_t(i) * stride) * mm]);
         }
-      }
-    });
+      });
+    } else {
+      const int64_t lines = int64_t(cells) / len;
+      tbb::parallel_for(tbb::blocked_range<int64_t>(0, lines, 16), [&](const tbb::blocked_range<int64_t>& range) {
+        std::vector<double> acc(mm);
+        for (int64_t l = range.begin(); l < range.end(); ++l) {
+          const float* line = &grid[size_t(l) * size_t(len) * mm];
+          float* out_line = &next[size_t(l) * size_t(len) * mm];
+          for (int i = 0; i < len; ++i) {
+            std::fill(acc.begin(), acc.end(), 0.0);
+            const int a = std::max(0, i - radius), z = std::min(len - 1, i + radius);
+            for (int j = a; j <= z; ++j) {
+              const double t = taps[size_t(std::abs(j - i))];
+              const float* src = &line[size_t(j) * mm];
+              for (size_t ch = 0; ch < mm; ++ch) acc[ch] += t * src[ch];
+            }
+            for (size_t ch = 0; ch < mm; ++ch) out_line[size_t(i) * mm + ch] = float(acc[ch]);
+          }
+        }
+      });
+    }
     grid.swap(next);
   }
   // Slice.
   out->assign(size_t(n_) * mm, 0.f);
   tbb::parallel_for(tbb::blocked_range<int>(0, n_, 1024), [&](const tbb::blocked_range<int>& range) {
-    std::vector<double> acc(mm), w(static_cast<size_t>(prefix));
+    std::vector<float> w(static_cast<size_t>(prefix));
     for (int p = range.begin(); p < range.end(); ++p) {
       prefix_weights(p, w.data());
       const float* wl = &weight_[(size_t(p) * size_t(d_) + size_t(d_ - 1)) * 4];
-      std::fill(acc.begin(), acc.end(), 0.0);
-      for (int c = 0; c < prefix; ++c) {
-        const double* src = &grid[size_t(base_[size_t(p)] + prefix_offset[size_t(c)]) * mm];
-        for (int j = 0; j < 4; ++j) {
-          const double wj = w[size_t(c)] * wl[j];
-          for (size_t ch = 0; ch < mm; ++ch) acc[ch] += wj * src[size_t(j) * mm + ch];
-        }
+      float* dst = out->data() + size_t(p) * mm;
+      switch (m) {
+        case 1: SlicePoint<1>(prefix_offset.data(), w.data(), prefix, wl, grid.data(), m, base_[size_t(p)], dst); break;
+        case 3: SlicePoint<3>(prefix_offset.data(), w.data(), prefix, wl, grid.data(), m, base_[size_t(p)], dst); break;
+        case 4: SlicePoint<4>(prefix_offset.data(), w.data(), prefix, wl, grid.data(), m, base_[size_t(p)], dst); break;
+        default: SlicePoint<0>(prefix_offset.data(), w.data(), prefix, wl, grid.data(), m, base_[size_t(p)], dst); break;
       }
-      for (size_t ch = 0; ch < mm; ++ch) (*out)[size_t(p) * mm + ch] = float(acc[ch]);
     }
   });
 }

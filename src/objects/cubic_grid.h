@@ -14,7 +14,8 @@
 // O(h^3) per axis (measured in 1-D: at most 7.2e-4 of the peak at h = 1/4, 1.8e-3 at 1/3, 7.8e-3 at 1/2).
 // The grid spans the points' bounding box (+2 nodes): cells = prod_k (extent_k / h + 4), so this is for
 // d <= 3 and compact features; Build reports the size first (CellsFor) so that callers can choose.
-// Deterministic (splat parallel over channels only).
+// Float grid (the splat and slice accumulate in float, the blur along the last axis in double); deterministic
+// (the splat goes into a fixed number of partial grids summed in a fixed order).
 #pragma once
 
 #include <cstdint>

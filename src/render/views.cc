@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,8 @@
 #include <map>
 #include <numbers>
 #include <sstream>
+
+#include <tbb/parallel_pipeline.h>
 
 #include "core/log.h"
 #include "render/view_selection.h"
@@ -237,32 +240,80 @@ Result<ViewSet> RenderViews(const ViewRenderer& renderer, const VoxelMap& map, c
   }
   const RenderOptions render = options.Render(map.grid.resolution());
   set.voxel_seen.assign(map.grid.size(), 0);
-  RenderedView view;
+  // Every view in order: (position, pitch, yaw step, k).
+  struct Pose {
+    int position;
+    double pitch, yaw;
+  };
+  std::vector<Pose> poses;
+  for (size_t p = 0; p < set.positions.size(); ++p)
+    for (const auto& [pitch, yaw_step] : rings)
+      for (int k = 0; k < int(std::lround(360.0 / yaw_step)); ++k) poses.push_back({int(p), pitch, k * yaw_step});
+  // Two stages, each serial and in view order: rendering (parallel over pixels inside) and what follows it
+  // (the view's measures, the seen voxels, the sink). With a few views in flight, view k + 1 renders while
+  // view k is measured and handed to the sink, so the serial parts of both overlap; the results are the
+  // same as one view at a time.
+  struct InFlight {
+    ViewRecord record;
+    RenderedView view;
+  };
+  constexpr size_t kInFlight = 3;
+  std::vector<InFlight> slots(kInFlight);
+  size_t next_pose = 0;
   double seconds = 0;
-  for (size_t p = 0; p < set.positions.size(); ++p) {
-    for (const auto& [pitch, yaw_step] : rings) {
-      for (int k = 0; k < int(std::lround(360.0 / yaw_step)); ++k) {
-        ViewRecord r;
-        r.id = int(set.views.size());
-        r.position = int(p);
-        r.yaw_deg = k * yaw_step;
-        r.pitch_deg = pitch;
-        r.world_from_camera = WorldFromCameraYawPitch(set.positions[p], r.yaw_deg, r.pitch_deg);
-        const auto t0 = std::chrono::steady_clock::now();
-        SEMVOX_RETURN_IF_ERROR(renderer.Render(set.camera, r.world_from_camera, render, &view));
-        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        MeasureView(view, options, &r);
-        if (r.kept()) {
-          std::array<int, 3> cell;
-          for (size_t i = 0; i < view.primitive.data.size(); ++i)
-            if (view.primitive.data[i] >= 0 && map.grid.CellOfKey(view.voxel_key.data[i], &cell))
-              set.voxel_seen[map.grid.Index(cell[0], cell[1], cell[2])] = 1;
-        }
-        if (sink) SEMVOX_RETURN_IF_ERROR(sink(r, view));
-        set.views.push_back(r);
-      }
-    }
-  }
+  Status render_error = Status::Ok(), sink_error = Status::Ok();
+  std::atomic<bool> failed{false};
+  tbb::parallel_pipeline(
+      kInFlight,
+      tbb::make_filter<void, InFlight*>(tbb::filter_mode::serial_in_order,
+                                        [&](tbb::flow_control& fc) -> InFlight* {
+                                          if (next_pose >= poses.size() || failed.load()) {
+                                            fc.stop();
+                                            return nullptr;
+                                          }
+                                          const size_t i = next_pose++;
+                                          InFlight* slot = &slots[i % kInFlight];
+                                          ViewRecord& r = slot->record;
+                                          r = ViewRecord();
+                                          r.id = int(i);
+                                          r.position = poses[i].position;
+                                          r.yaw_deg = poses[i].yaw;
+                                          r.pitch_deg = poses[i].pitch;
+                                          r.world_from_camera = WorldFromCameraYawPitch(set.positions[size_t(r.position)], r.yaw_deg, r.pitch_deg);
+                                          const auto t0 = std::chrono::steady_clock::now();
+                                          Status st = renderer.Render(set.camera, r.world_from_camera, render, &slot->view);
+                                          seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                                          if (!st.ok()) {
+                                            render_error = st;
+                                            failed = true;
+                                            fc.stop();
+                                            return nullptr;
+                                          }
+                                          return slot;
+                                        }) &
+          tbb::make_filter<InFlight*, void>(tbb::filter_mode::serial_in_order, [&](InFlight* slot) {
+            if (failed.load()) return;
+            ViewRecord& r = slot->record;
+            const RenderedView& view = slot->view;
+            MeasureView(view, options, &r);
+            if (r.kept()) {
+              std::array<int, 3> cell;
+              for (size_t i = 0; i < view.primitive.data.size(); ++i)
+                if (view.primitive.data[i] >= 0 && map.grid.CellOfKey(view.voxel_key.data[i], &cell))
+                  set.voxel_seen[map.grid.Index(cell[0], cell[1], cell[2])] = 1;
+            }
+            if (sink) {
+              Status st = sink(r, view);
+              if (!st.ok()) {
+                sink_error = st;
+                failed = true;
+                return;
+              }
+            }
+            set.views.push_back(r);
+          }));
+  SEMVOX_RETURN_IF_ERROR(render_error);
+  SEMVOX_RETURN_IF_ERROR(sink_error);
   set.seconds_render = seconds;
   return set;
 }

@@ -203,12 +203,21 @@ void EvidenceAccumulator::AddDepthView(const RenderedView& view) {
       }
     }
   });
-  // Hits: every pixel's key names the voxel its surface point lies in.
-  std::array<int, 3> cell;
+  // Hits: every pixel's key names the voxel its surface point lies in. The pixels' nodes are looked up in
+  // parallel; the sums then run over the pixels in order (the same float sums as one pass).
+  pixel_node_.resize(size_t(W) * size_t(H));
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), [&](const tbb::blocked_range<int>& r) {
+    std::array<int, 3> cell;
+    for (int y = r.begin(); y < r.end(); ++y)
+      for (int x = 0; x < W; ++x) {
+        int32_t node = -1;
+        if (view.hit(x, y) && grid_.CellOfKey(view.voxel_key.at(x, y), &cell)) node = nodes_.node_of_voxel[grid_.Index(cell[0], cell[1], cell[2])];
+        pixel_node_[size_t(y) * size_t(W) + size_t(x)] = node;
+      }
+  });
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      if (!view.hit(x, y) || !grid_.CellOfKey(view.voxel_key.at(x, y), &cell)) continue;
-      const int32_t node = nodes_.node_of_voxel[grid_.Index(cell[0], cell[1], cell[2])];
+      const int32_t node = pixel_node_[size_t(y) * size_t(W) + size_t(x)];
       if (node < 0) continue;
       ++ev_.hits[size_t(node)];
       for (int k = 0; k < 3; ++k) colour_sum_[size_t(node)][size_t(k)] += float(view.rgb.at(x, y, k));

@@ -118,6 +118,7 @@ class EvidenceAccumulator {
   std::vector<float> sum_f_, footprint_;
   std::vector<std::array<float, 3>> colour_sum_;
   std::vector<Eigen::Vector3f> normal_sum_;
+  std::vector<int32_t> pixel_node_;  // AddDepthView scratch: the node each pixel hits (-1: none).
 };
 
 }  // namespace semvox
