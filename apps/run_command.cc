@@ -163,8 +163,9 @@ Status RunPipeline(const RunArgs& args) {
       Result<std::unique_ptr<SupportClutterStage>> sup = SupportClutterStage::Create(so, models_dir);
       if (!sup.ok()) return sup.status();
       support = std::move(sup).value();
-      semantic->SetViewHook([&support](const RenderedView& view) -> Result<std::function<Status()>> {
-        Result<SupportClutterStage::ViewResult> r = support->Process(view);  // In parallel with other views.
+      semantic->SetViewHook([&support](const RenderedView& view, const ViewClassification* classified) -> Result<std::function<Status()>> {
+        // In parallel with other views; the proposals' NYU-4 classifier reuses the view's segmentation.
+        Result<SupportClutterStage::ViewResult> r = support->Process(view, classified);
         if (!r.ok()) return r.status();
         return std::function<Status()>([&support, &view, r = std::make_shared<SupportClutterStage::ViewResult>(std::move(r).value())] {
           return support->Add(view, std::move(*r));  // Fused in view order.

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 
 #include "core/file_util.h"
 #include "core/labels.h"
@@ -276,6 +277,7 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
       const double hit_fraction = double(slot.view.hit_pixels) / double(slot.view.depth.data.size());
       if (hit_fraction < tv.min_hit_fraction || (slot.view.hit_pixels && depth_sum / double(slot.view.hit_pixels) < tv.min_mean_depth_m)) return;
       Image<int32_t> predicted;
+      std::optional<ViewClassification> classified;  // The built-in classifier's result (the hook may share it).
       if (s.onnx && s.onnx->object) {
         Result<ImageF32> q = s.onnx->object->PixelProbabilities(slot.view);
         if (!q.ok()) {
@@ -294,9 +296,9 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
           slot.status = c.status();
           return;
         }
-        slot.superpixels = std::move(c->superpixels);
-        slot.probabilities.assign(c->union_marginals.p.begin(), c->union_marginals.p.end());
-        predicted = PixelLabels(slot.superpixels, c->union_labels);
+        classified = std::move(c).value();
+        slot.probabilities.assign(classified->union_marginals.p.begin(), classified->union_marginals.p.end());
+        predicted = PixelLabels(classified->superpixels, classified->union_labels);
       }
       std::vector<double> p;
       if (s.onnx && s.onnx->scene) {
@@ -312,13 +314,14 @@ Status SemanticStage::ClassifyViews(const std::vector<Eigen::Vector3d>& position
       }
       for (size_t t = 0; t < 12 && t < p.size(); ++t) slot.room[t] = p[t];
       if (s.hook && to_hook[b0 + k]) {
-        Result<std::function<Status()>> h = s.hook(slot.view);
+        Result<std::function<Status()>> h = s.hook(slot.view, classified ? &*classified : nullptr);
         if (!h.ok()) {
           slot.status = h.status();
           return;
         }
         slot.finish_hook = std::move(h).value();
       }
+      if (classified) slot.superpixels = std::move(classified->superpixels);
       slot.use = true;
     });
     for (size_t k = 0; k < nb; ++k) {

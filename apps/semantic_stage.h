@@ -28,6 +28,10 @@
 #include "voxelcrf/voxel_evidence.h"
 
 namespace semvox {
+struct ViewClassification;  // perception/view_classifier.h
+}  // namespace semvox
+
+namespace semvox {
 
 // Which candidate classification views are classified.
 enum class ClassifyViewSelection {
@@ -98,8 +102,10 @@ class SemanticStage {
   // Optional: the work to do on each used classification view (e.g. the support / clutter stage); with
   // kAllObjectsOnCover only on the cover's views. The hook runs on several views at once, next to their
   // classification, so it must be safe to call concurrently; what it returns runs once per view, in view
-  // order, on one thread (fusion), so the results do not depend on the threads.
-  using ViewHook = std::function<Result<std::function<Status()>>(const RenderedView&)>;
+  // order, on one thread (fusion), so the results do not depend on the threads. `classified` is the view's
+  // per-view classification (its superpixels and observations, for other classifiers of the same
+  // segmentation), or null when the ONNX networks replaced the built-in classifier.
+  using ViewHook = std::function<Result<std::function<Status()>>(const RenderedView&, const ViewClassification* classified)>;
   void SetViewHook(ViewHook hook);
   // Adds the depth, density, colour and normal evidence of every kept view.
   ViewSink DepthSink();

@@ -40,7 +40,7 @@ Result<std::unique_ptr<SupportClutterStage>> SupportClutterStage::Create(const S
   return stage;
 }
 
-Result<SupportClutterStage::ViewResult> SupportClutterStage::Process(const RenderedView& view) const {
+Result<SupportClutterStage::ViewResult> SupportClutterStage::Process(const RenderedView& view, const ViewClassification* segmented) const {
   ViewResult r;
   auto t0 = std::chrono::steady_clock::now();
   Result<SupportClutterView> out = classifier_.Classify(view);
@@ -48,7 +48,9 @@ Result<SupportClutterStage::ViewResult> SupportClutterStage::Process(const Rende
   r.ms_classify = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (proposer_) {
     t0 = std::chrono::steady_clock::now();
-    Result<ViewClassification> c = nyu4_->Classify(view);
+    const bool reuse = segmented && segmented->superpixels.label.width == view.camera.width &&
+                       segmented->superpixels.label.height == view.camera.height;
+    Result<ViewClassification> c = reuse ? nyu4_->Classify(segmented->superpixels, segmented->observations) : nyu4_->Classify(view);
     if (!c.ok()) return c.status();
     std::vector<float> p(c->superpixels.label.data.size() * 4);
     for (size_t i = 0; i < c->superpixels.label.data.size(); ++i)

@@ -60,7 +60,10 @@ class SupportClutterStage {
   };
   // Classifies one view and (with proposals) finds its 3D proposals. Const and safe to call on several
   // views at once; the results then go to Add in view order, so the fused outputs do not depend on threads.
-  Result<ViewResult> Process(const RenderedView& view) const;
+  // `segmented`: the view's classification by a per-view classifier with the default segmentation
+  // (ViewClassifierOptions' superpixels and observations, as the proposals' NYU-4 classifier uses); its
+  // superpixels and observations are reused instead of segmenting the view again. Null: segment here.
+  Result<ViewResult> Process(const RenderedView& view, const ViewClassification* segmented = nullptr) const;
   // Fuses one processed view's probabilities and merges its proposals.
   Status Add(const RenderedView& view, ViewResult result);
   // Process then Add.
