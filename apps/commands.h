@@ -23,7 +23,8 @@ struct RunArgs {
   bool json = false;           // Print summary.json on stdout.
   long long max_voxels = 0;    // > 0 overrides mapping.max_voxels.
   bool save_views = false;     // Also write PNG thumbnails of every view into OUTDIR/views/.
-  std::string models_dir;      // Model files (default: $SEMVOX_MODELS or the source tree's models/).
+  std::string models_dir;      // Model files; empty: $SEMVOX_MODELS, else beside the binary (apps/models_dir.h).
+  std::string argv0;           // The binary's argv[0]: finds the models when /proc/self/exe cannot be read.
   // Optional ONNX backend (apps/onnx_stage.h): networks, label maps and input sizes ("WxH", "" = 224x224).
   std::string scene_model, scene_labels, scene_input_size;
   std::string object_model, object_labels, object_input_size;
@@ -125,7 +126,7 @@ struct TrainArgs {
   bool voxel_crf_only = false;              // Train only the Voxel-CRF (needs the per-view models in outdir).
   bool segments_only = false;               // Train only the object-segment classifier.
   bool room_shapes_only = false;            // Train only the room-shape model (real R2V plans).
-  std::string r2v_dir;                      // R2V plans (empty: ../shared/data/r2v beside the source tree).
+  std::string r2v_dir;                      // R2V plans (empty: ../shared/data/r2v from the working directory).
   std::string segment_seeds = "0-99";       // Generator seeds the object-segment classifier learns on (randomised scans).
   std::string voxel_crf_seeds = "0-7";      // Generator seeds the Voxel-CRF weights are learned on.
   int voxel_crf_epochs = 12;                // Structural-SVM epochs.

@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "print warnings and errors only");
 
   semvox::RunArgs run;
+  run.argv0 = argc > 0 && argv[0] ? argv[0] : "";
   CLI::App* run_cmd = app.add_subcommand("run", "map a mesh or point cloud into OUTDIR");
   run_cmd->add_option("input", run.input, "mesh (.ply .obj .gltf .glb .off .stl) or cloud (.ply .pcd .txt .xyz)")->required();
   run_cmd->add_option("-o,--output", run.outdir, "output directory")->required();
@@ -57,7 +58,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--object-model", run.object_model, "segmentation network (.onnx) for the per-pixel class probabilities");
   run_cmd->add_option("--object-labels", run.object_labels, "label map of --object-model: NET_INDEX NYU40_CLASS lines");
   run_cmd->add_option("--object-input", run.object_input_size, "input size of --object-model, WxH (default 224x224)");
-  run_cmd->add_option("--models", run.models_dir, "directory of the model files (default: $SEMVOX_MODELS, else the source tree's models/)");
+  run_cmd->add_option("--models", run.models_dir, "directory of the model files (default: $SEMVOX_MODELS, else ../share/semvox/models "
+                      "relative to the semvox binary, where `cmake --install` puts them)");
   run_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
 
   semvox::GenerateArgs gen;
@@ -96,7 +98,8 @@ int main(int argc, char** argv) {
   train_cmd->add_flag("--segments", train.segments_only, "train only the object-segment classifier (object_segments.knn)");
   train_cmd->add_flag("--room-shapes", train.room_shapes_only,
                       "train only the room-shape model (room_shape.json) on real R2V plans 0-299, validated on 300-399");
-  train_cmd->add_option("--r2v-dir", train.r2v_dir, "R2V plans for --room-shapes (default ../shared/data/r2v)");
+  train_cmd->add_option("--r2v-dir", train.r2v_dir, "R2V plans (plan_*.txt) for --room-shapes and the room-type statistics "
+                        "(default ../shared/data/r2v, relative to the working directory)");
   train_cmd->add_option("--segment-seeds", train.segment_seeds, "generator seeds for the object-segment classifier, e.g. 0-99");
   train_cmd->add_option("--voxel-crf-seeds", train.voxel_crf_seeds, "generator seeds for the Voxel-CRF weights, e.g. 0-7");
   train_cmd->add_option("--voxel-crf-epochs", train.voxel_crf_epochs, "structural-SVM epochs of the Voxel-CRF")->check(CLI::PositiveNumber);

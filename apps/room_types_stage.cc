@@ -14,13 +14,15 @@ namespace semvox {
 Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
                         const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options, const std::string& outdir,
                         nlohmann::ordered_json* summary, const Eigen::Isometry3d& input_from_world, ImageU16* room_ids) {
-  const std::string model_path = options.model_path.empty() ? DefaultRoomTypeModelPath() : options.model_path;
+  const std::string& model_path = options.model_path;
+  if (model_path.empty()) return Status::Internal("room types: no model file given (RoomTypeCrfOptions::model_path is empty)");
   Result<RoomTypeModel> model = LoadRoomTypeModel(model_path);
   if (!model.ok()) return model.status();
-  // The room-shape model (real plans); without it the rooms are typed without their shapes, with a warning.
+  // The room-shape model (real plans); when it cannot be read the rooms are typed without their shapes, with a
+  // warning; none given: without their shapes.
   std::optional<RoomShapeModel> shapes;
-  const std::string shape_path = options.shape_model_path.empty() ? DefaultRoomShapeModelPath() : options.shape_model_path;
-  if (options.shape_weight > 0) {
+  const std::string& shape_path = options.shape_model_path;
+  if (options.shape_weight > 0 && !shape_path.empty()) {
     Result<RoomShapeModel> s = LoadRoomShapeModel(shape_path);
     if (s.ok())
       shapes = *s;

@@ -8,7 +8,9 @@
 //     OUTDIR/rooms_types.png (the plan coloured by each pixel's most likely type),
 //     and adds a "room_types" object to `summary` (method, model, rooms with their types, timings);
 //     `room_ids` (optional) receives what rooms.png holds, for the exports that follow.
-// The model is options.model_path, or models/room_type_crf.json ($SEMVOX_MODELS overrides the directory).
+// The model is options.model_path and the room-shape model options.shape_model_path (`semvox run` gives the
+// files of its models directory, apps/models_dir.h); an empty model_path is an error, an empty
+// shape_model_path types the rooms without their shapes.
 #pragma once
 
 #include <Eigen/Geometry>

@@ -7,6 +7,7 @@
 #include <sys/resource.h>
 
 #include "apps/commands.h"
+#include "apps/models_dir.h"
 #include "apps/onnx_stage.h"
 #include "apps/room_types_stage.h"
 #include "apps/semantic_stage.h"
@@ -59,6 +60,13 @@ Status RunPipeline(const RunArgs& args) {
   if (args.max_voxels > 0) config.voxelize.max_voxels = size_t(args.max_voxels);
   SEMVOX_RETURN_IF_ERROR(CheckConfig(config));
   SEMVOX_RETURN_IF_ERROR(CheckOutputNotInput(args.input, args.outdir));
+  // Only the semantic stage (and the support / clutter and room-type stages after it) reads models.
+  std::string models_dir;
+  if (config.semantic.enabled) {
+    Result<std::string> dir = ResolveModelsDir(args.models_dir, args.argv0);
+    if (!dir.ok()) return dir.status();
+    models_dir = std::move(dir).value();
+  }
   // Fail on an unwritable OUTDIR before any work.
   SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(args.outdir));
 
@@ -143,7 +151,6 @@ Status RunPipeline(const RunArgs& args) {
   std::unique_ptr<SemanticStage> semantic;
   // ... and the support / clutter stage sees every classification view.
   std::unique_ptr<SupportClutterStage> support;
-  const std::string models_dir = args.models_dir.empty() ? DefaultModelsDir() : args.models_dir;
   if (config.semantic.enabled) {
     SemanticStageOptions semantic_options = config.semantic;
     semantic_options.view_selection = ResolveViewSelection(semantic_options.view_selection, scene);

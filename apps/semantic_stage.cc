@@ -97,11 +97,6 @@ std::vector<int> Nyu40OfClasses(const LabelLevel& level) {
   return nyu40;
 }
 
-std::string DefaultModelsDir() {
-  if (const char* env = std::getenv("SEMVOX_MODELS"); env && *env) return env;
-  return std::string(SEMVOX_SOURCE_DIR) + "/models";
-}
-
 struct SemanticStage::Impl {
   const VoxelMap* map = nullptr;
   const ViewRenderer* renderer = nullptr;

@@ -149,7 +149,4 @@ class SemanticStage {
 // The NYU40 id written for each class of `level` ("other" -> otherprop), before training picks better.
 std::vector<int> Nyu40OfClasses(const struct LabelLevel& level);
 
-// Where the shipped models live: $SEMVOX_MODELS, else <source>/models.
-std::string DefaultModelsDir();
-
 }  // namespace semvox

@@ -63,6 +63,10 @@ Status ParseSeedList(const std::string& text, const char* flag, std::vector<uint
 
 namespace {
 
+// The real R2V floor plans: --r2v-dir, else ../shared/data/r2v relative to the working directory (`semvox train`
+// runs from the source tree's root, as its default output `models` says).
+std::string R2vDirectory(const TrainArgs& args) { return args.r2v_dir.empty() ? "../shared/data/r2v" : args.r2v_dir; }
+
 // Keeps at most `max_rows` rows of each model's training set, at an even stride (deterministic).
 void Subsample(int max_rows, TrainingSet* set) {
   auto thin = [&](std::vector<float>* f, std::vector<int>* l, int dims) {
@@ -129,8 +133,10 @@ Result<nlohmann::json> TrainSegments(const TrainArgs& args, const std::vector<ui
 }  // namespace
 
 Status RunTrainRoomShapes(const TrainArgs& args) {
-  const std::string dir = args.r2v_dir.empty() ? DefaultR2vDirectory() : args.r2v_dir;
+  const std::string dir = R2vDirectory(args);
   std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    return Status::InvalidInput(FileError(dir, "no such directory (the R2V plans)", "pass --r2v-dir DIR, or run from the source tree's root"));
   std::filesystem::create_directories(args.outdir, ec);
   if (ec) return Status::InvalidInput(FileError(args.outdir, "cannot create the output directory", ec.message()));
   RoomShapeTrainingReport r;
@@ -281,7 +287,10 @@ Status RunTrain(const TrainArgs& args) {
   {  // Room-type CRF: statistics from all training seeds (+ R2V fixtures), the rest from the CRF seeds.
     RoomTypeTrainingOptions rt;
     rt.min_object_fraction = kRoomMinObjectFraction;
-    rt.r2v_dir = DefaultR2vDirectory();
+    rt.r2v_dir = R2vDirectory(args);
+    if (std::error_code ec; !std::filesystem::is_directory(rt.r2v_dir, ec))
+      SEMVOX_WARN("train: " << rt.r2v_dir << ": no R2V plans there; the room-type object statistics go without them "
+                            "(hint: --r2v-dir DIR, or run from the source tree's root)");
     std::vector<uint64_t> stat_seeds = train_seeds;
     stat_seeds.insert(stat_seeds.end(), crf_seeds.begin(), crf_seeds.end());
     RoomTypeTrainingSummary rts;

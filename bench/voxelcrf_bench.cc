@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "apps/commands.h"
+#include "apps/models_dir.h"
 #include "apps/semantic_stage.h"
 #include "bench/boost_bk_graph.h"
 #include "core/labels.h"
@@ -248,7 +249,7 @@ int Solvers(uint64_t seed, const std::string& models, const std::string& work) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string mode, models = DefaultModelsDir(), work = "/tmp/semvox_voxelcrf_bench", seeds_text = "100-104";
+  std::string mode, models, work = "/tmp/semvox_voxelcrf_bench", seeds_text = "100-104";
   uint64_t seed = 100;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -263,6 +264,10 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  // As `semvox run`: --models, $SEMVOX_MODELS, else the build tree's share/semvox/models.
+  Result<std::string> models_dir = ResolveModelsDir(models, argv[0]);
+  if (!models_dir.ok()) return std::fprintf(stderr, "voxelcrf_bench: %s\n", models_dir.status().message().c_str()), 2;
+  models = std::move(models_dir).value();
   SetLogLevel(LogLevel::kWarning);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   fs::create_directories(work);

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <set>
 
 #include "core/file_util.h"
@@ -236,11 +235,6 @@ Result<RoomShapeModel> LoadRoomShapeModel(const std::string& path) {
                                           "write one with `semvox train --room-shapes`"));
   }
   return m;
-}
-
-std::string DefaultRoomShapeModelPath() {
-  if (const char* env = std::getenv("SEMVOX_MODELS"); env && *env) return std::string(env) + "/room_shape.json";
-  return std::string(SEMVOX_SOURCE_DIR) + "/models/room_shape.json";
 }
 
 }  // namespace semvox

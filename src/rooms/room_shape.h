@@ -82,7 +82,5 @@ std::array<double, kRoomShapeTypes> LogLikelihoodRatios(const RoomShapeModel& mo
 std::string RoomShapeModelToJson(const RoomShapeModel& model);
 Status SaveRoomShapeModel(const RoomShapeModel& model, const std::string& path);
 Result<RoomShapeModel> LoadRoomShapeModel(const std::string& path);
-// models/room_shape.json in the source tree.
-std::string DefaultRoomShapeModelPath();
 
 }  // namespace semvox

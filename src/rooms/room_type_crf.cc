@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <numeric>
 #include <random>
 #include <unordered_map>
@@ -190,11 +189,6 @@ Result<RoomTypeModel> LoadRoomTypeModel(const std::string& path) {
                                           "write it with `semvox train`"));
   }
   return m;
-}
-
-std::string DefaultRoomTypeModelPath() {
-  if (const char* env = std::getenv("SEMVOX_MODELS"); env && *env) return std::string(env) + "/room_type_crf.json";
-  return std::string(SEMVOX_SOURCE_DIR) + "/models/room_type_crf.json";
 }
 
 bool RoomTypeCrfOptions::Check(std::string* error) const {

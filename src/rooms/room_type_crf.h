@@ -114,13 +114,11 @@ struct RoomTypeModel {
 std::string RoomTypeModelToJson(const RoomTypeModel& model);
 Status SaveRoomTypeModel(const RoomTypeModel& model, const std::string& path);
 Result<RoomTypeModel> LoadRoomTypeModel(const std::string& path);
-// models/room_type_crf.json in the source tree (the committed, trained model).
-std::string DefaultRoomTypeModelPath();
 
 struct RoomTypeCrfOptions {
   RoomTypeVariant variant;              // Terms of Eq. 1 (default: conf + gauss + obj, the paper's best).
-  std::string model_path;               // Model file; empty = DefaultRoomTypeModelPath().
-  std::string shape_model_path;         // Room-shape model; empty = DefaultRoomShapeModelPath().
+  std::string model_path;               // Model file (the caller's: `semvox run` gives <models>/room_type_crf.json).
+  std::string shape_model_path;         // Room-shape model (<models>/room_shape.json); empty = rooms typed without their shapes.
   double cell_size_m = 0.25;            // CRF node size, metres. > 0.
   double max_pair_distance_m = 3.0;     // Homogeneity pairs up to this far apart, metres. > 0.
   double gauss_sigma_m = 1.0;           // phi_gauss kernel width, metres. > 0.

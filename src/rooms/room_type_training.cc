@@ -38,8 +38,6 @@ int R2vFixtureLabel(const std::string& name) {
 
 }  // namespace
 
-std::string DefaultR2vDirectory() { return std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/r2v"; }
-
 const std::vector<int>& R2vFixtureLabels() {
   static const std::vector<int> kLabels = {12, 33, 34, 36};
   return kLabels;

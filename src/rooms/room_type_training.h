@@ -40,9 +40,6 @@ ObjectRoomCounts CountApartmentObjects(const Apartment& apartment);
 // directory holds no plan.
 Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int* plans_used = nullptr);
 
-// ../shared/data/r2v beside the source tree (may not exist: training then goes without R2V statistics).
-std::string DefaultR2vDirectory();
-
 // The NYU40 ids the R2V fixtures stand for.
 const std::vector<int>& R2vFixtureLabels();
 

@@ -54,6 +54,7 @@ TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
   RoomTypeCrfOptions options;
   model.SetWeights(options.variant, RoomTypeWeights{5.0, {1, 1, 1, 1}, 1.0});
   options.model_path = (dir / "model.json").string();
+  options.shape_model_path = std::string(SEMVOX_SOURCE_DIR) + "/models/room_shape.json";
   ASSERT_TRUE(SaveRoomTypeModel(model, options.model_path).ok());
   nlohmann::ordered_json summary;
   const Status st = RunRoomTypeStage(plan, rooms, views, {}, options, dir.string(), &summary);
