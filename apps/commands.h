@@ -126,6 +126,7 @@ struct TrainArgs {
   bool voxel_crf_only = false;              // Train only the Voxel-CRF (needs the per-view models in outdir).
   bool segments_only = false;               // Train only the object-segment classifier.
   bool room_shapes_only = false;            // Train only the room-shape model (real R2V plans).
+  bool room_type_statistics_only = false;   // Recompute the R2V fixture statistics of OUTDIR/room_type_crf.json.
   std::string r2v_dir;                      // R2V plans (empty: ../shared/data/r2v from the working directory).
   std::string segment_seeds = "0-99";       // Generator seeds the object-segment classifier learns on (randomised scans).
   std::string voxel_crf_seeds = "0-7";      // Generator seeds the Voxel-CRF weights are learned on.
@@ -152,6 +153,10 @@ Status RunTrainSegments(const TrainArgs& args);
 // `semvox train --room-shapes`: only models/room_shape.json (and room_shape_report.json), from R2V plans
 // 0-299; plans 300-399 validate.
 Status RunTrainRoomShapes(const TrainArgs& args);
+// `semvox train --room-type-statistics`: OUTDIR/room_type_crf.json's R2V fixture statistics (counter, sink,
+// toilet, bathtub given the room type) recomputed from the training seeds' apartments and R2V plans 0-299;
+// its learned terms stay.
+Status RunTrainRoomTypeStatistics(const TrainArgs& args);
 // "A-B" or "A,B,..." -> seeds.
 Status ParseSeedList(const std::string& text, const char* flag, std::vector<uint64_t>* seeds);
 

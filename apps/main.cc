@@ -98,6 +98,9 @@ int main(int argc, char** argv) {
   train_cmd->add_flag("--segments", train.segments_only, "train only the object-segment classifier (object_segments.knn)");
   train_cmd->add_flag("--room-shapes", train.room_shapes_only,
                       "train only the room-shape model (room_shape.json) on real R2V plans 0-299, validated on 300-399");
+  train_cmd->add_flag("--room-type-statistics", train.room_type_statistics_only,
+                      "recompute only the R2V fixture statistics of room_type_crf.json (training seeds + R2V plans 0-299); "
+                      "its learned terms stay");
   train_cmd->add_option("--r2v-dir", train.r2v_dir, "R2V plans (plan_*.txt) for --room-shapes and the room-type statistics "
                         "(default ../shared/data/r2v, relative to the working directory)");
   train_cmd->add_option("--segment-seeds", train.segment_seeds, "generator seeds for the object-segment classifier, e.g. 0-99");
@@ -197,6 +200,7 @@ int main(int argc, char** argv) {
       return Report(train.voxel_crf_only  ? semvox::RunTrainVoxelCrf(train)
                     : train.segments_only ? semvox::RunTrainSegments(train)
                     : train.room_shapes_only ? semvox::RunTrainRoomShapes(train)
+                    : train.room_type_statistics_only ? semvox::RunTrainRoomTypeStatistics(train)
                                           : semvox::RunTrain(train));
     if (*report_cmd) return Report(semvox::RunReport(report));
     if (*remove_cmd) return Report(semvox::RunRemove(remove_args));

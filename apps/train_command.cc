@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <regex>
 
 #include "apps/commands.h"
 #include "core/file_util.h"
@@ -140,7 +141,7 @@ Status RunTrainRoomShapes(const TrainArgs& args) {
   std::filesystem::create_directories(args.outdir, ec);
   if (ec) return Status::InvalidInput(FileError(args.outdir, "cannot create the output directory", ec.message()));
   RoomShapeTrainingReport r;
-  Result<RoomShapeModel> model = TrainRoomShapesFromR2v(dir, 300, &r);
+  Result<RoomShapeModel> model = TrainRoomShapesFromR2v(dir, kR2vTrainingPlans, &r);
   if (!model.ok()) return model.status();
   SEMVOX_RETURN_IF_ERROR(SaveRoomShapeModel(*model, args.outdir + "/room_shape.json"));
   std::printf("%s", r.ToText().c_str());
@@ -153,6 +154,29 @@ Status RunTrainRoomShapes(const TrainArgs& args) {
   j["val_class_average"] = std::round(1e4 * r.val_class_average) / 1e4;
   j["val_confusion_m2"] = r.confusion_m2;
   return WriteFileAtomic(args.outdir + "/room_shape_report.json", j.dump(2) + "\n");
+}
+
+Status RunTrainRoomTypeStatistics(const TrainArgs& args) {
+  const std::string dir = R2vDirectory(args);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    return Status::InvalidInput(FileError(dir, "no such directory (the R2V plans)", "pass --r2v-dir DIR, or run from the source tree's root"));
+  std::vector<uint64_t> seeds;
+  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.train_seeds, "--train-seeds", &seeds));
+  const std::string path = args.outdir + "/room_type_crf.json";
+  Result<RoomTypeModel> model = LoadRoomTypeModel(path);
+  if (!model.ok()) return model.status();
+  int plans = 0;
+  SEMVOX_RETURN_IF_ERROR(RefreshR2vFixtureStatistics(seeds, dir, kR2vTrainingPlans, &*model, &plans));
+  // The provenance names the plans the statistics now come from.
+  std::string& prov = model->provenance;
+  static const std::regex kR2vCount(R"(\+ [0-9]+ R2V plans( [0-9]+-[0-9]+)? \(fixtures\))");
+  const std::string now = "+ " + std::to_string(plans) + " R2V plans 0-" + std::to_string(kR2vTrainingPlans - 1) + " (fixtures)";
+  prov = std::regex_search(prov, kR2vCount) ? std::regex_replace(prov, kR2vCount, now) : prov + "; fixture statistics " + now;
+  SEMVOX_RETURN_IF_ERROR(SaveRoomTypeModel(*model, path));
+  std::printf("%s: R2V fixture statistics from %zu generated apartments and %d R2V plans (of the first %d)\n", path.c_str(), seeds.size(),
+              plans, kR2vTrainingPlans);
+  return Status::Ok();
 }
 
 Status RunTrainSegments(const TrainArgs& args) {

@@ -62,6 +62,10 @@ R2vRooms RasteriseR2vRooms(const R2vPlan& plan, double resolution_m = 0.05);
 // plan_*.txt of `dir` in sorted order (empty when there are none).
 std::vector<std::string> ListR2vPlans(const std::string& dir);
 
+// The split of the real plans: the first kR2vTrainingPlans sorted plans (0-299) train every model that reads
+// R2V plans; the rest (300-399) are for validation only.
+inline constexpr int kR2vTrainingPlans = 300;
+
 // The typed rooms of the plans (unreadable plans and plans without doors are skipped and counted in
 // `skipped`), with their shapes and pixel areas.
 struct R2vRoomSample {

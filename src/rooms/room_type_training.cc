@@ -121,10 +121,11 @@ ObjectRoomCounts CountApartmentObjects(const Apartment& a) {
   return c;
 }
 
-Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int* plans_used) {
-  const std::vector<std::string> files = ListR2vPlans(dir);
+Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int max_plans, int* plans_used) {
+  std::vector<std::string> files = ListR2vPlans(dir);
   if (files.empty())
     return Status::InvalidInput(FileError(dir, "no plan_*.txt (R2V plans) found", "pass the r2v folder of ../shared/data"));
+  if (max_plans >= 0 && files.size() > size_t(max_plans)) files.resize(size_t(max_plans));
   ObjectRoomCounts counts;
   int used = 0;
   for (const std::string& f : files) {
@@ -206,6 +207,26 @@ std::vector<Dist> CombinedObjectStatistics(const ObjectRoomCounts& generator, co
   const std::vector<Dist> fixtures = ObjectTypeStatistics(pooled);
   for (int k : R2vFixtureLabels()) table[size_t(k)] = fixtures[size_t(k)];
   return table;
+}
+
+Status RefreshR2vFixtureStatistics(const std::vector<uint64_t>& statistics_seeds, const std::string& r2v_dir, int r2v_plans,
+                                   RoomTypeModel* model, int* plans_used) {
+  ObjectRoomCounts gen;
+  for (uint64_t seed : statistics_seeds) {
+    ApartmentOptions ao;
+    ao.seed = seed;
+    Result<Apartment> a = GenerateApartment(ao);
+    if (!a.ok()) return a.status();
+    gen.Add(CountApartmentObjects(*a));
+  }
+  Result<ObjectRoomCounts> r2v = CountR2vFixtures(r2v_dir, r2v_plans, plans_used);
+  if (!r2v.ok()) return r2v.status();
+  const std::vector<Dist> table = CombinedObjectStatistics(gen, &*r2v);
+  if (model->object_type.size() != table.size())
+    return Status::InvalidInput("room-type model: " + std::to_string(model->object_type.size()) + " object rows, expected " +
+                                std::to_string(table.size()));
+  for (int k : R2vFixtureLabels()) model->object_type[size_t(k)] = table[size_t(k)];
+  return Status::Ok();
 }
 
 RoomViewRecord MakeRoomViewRecord(const LabelledView& v, const Image<int32_t>& predicted, int num_classes,
@@ -361,7 +382,7 @@ Result<RoomTypeModel> TrainRoomTypeModel(const std::vector<RoomViewRecord>& reco
   ObjectRoomCounts r2v;
   bool have_r2v = false;
   if (!options.r2v_dir.empty()) {
-    Result<ObjectRoomCounts> c = CountR2vFixtures(options.r2v_dir, &sum.r2v_plans);
+    Result<ObjectRoomCounts> c = CountR2vFixtures(options.r2v_dir, options.r2v_plans, &sum.r2v_plans);
     if (c.ok()) r2v = *c, have_r2v = true;
   }
   model.object_type = CombinedObjectStatistics(gen, have_r2v ? &r2v : nullptr);

@@ -21,6 +21,7 @@
 #include "perception/knn_unary.h"
 #include "perception/training_data.h"
 #include "perception/view_classifier.h"
+#include "rooms/r2v_plan.h"
 #include "rooms/room_type_crf.h"
 #include "scenegen/apartment.h"
 
@@ -36,9 +37,17 @@ ObjectRoomCounts CountApartmentObjects(const Apartment& apartment);
 
 // R2V plans (../shared/data/r2v/plan_*.txt): rooms flood-filled from their label boxes with walls and doors as
 // barriers, typed by room_types.tsv's r2v names; fixtures counted into the room holding their centre
-// (cooking_counter -> counter 12, washing_basin -> sink 34, toilet -> 33, bathtub -> 36). Fails when the
-// directory holds no plan.
-Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int* plans_used = nullptr);
+// (cooking_counter -> counter 12, washing_basin -> sink 34, toilet -> 33, bathtub -> 36). Only the first
+// `max_plans` sorted plans are read (kR2vTrainingPlans: the validation plans never enter a model). Fails when
+// the directory holds no plan.
+Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int max_plans, int* plans_used = nullptr);
+
+// Recomputes the R2V fixture rows of `model->object_type` (counter, sink, toilet, bathtub) as
+// TrainRoomTypeModel does: generated apartments `statistics_seeds` pooled with the first `r2v_plans` sorted
+// plans of `r2v_dir`. The other statistics and the learned terms stay. For a model whose fixture statistics
+// counted other plans (`semvox train --room-type-statistics`). `plans_used`: plans that gave rooms.
+Status RefreshR2vFixtureStatistics(const std::vector<uint64_t>& statistics_seeds, const std::string& r2v_dir, int r2v_plans,
+                                   RoomTypeModel* model, int* plans_used = nullptr);
 
 // The NYU40 ids the R2V fixtures stand for.
 const std::vector<int>& R2vFixtureLabels();
@@ -85,6 +94,7 @@ struct RoomTypeTrainingOptions {
   SsvmOptions ssvm;
   double min_object_fraction = 0.02;   // As RoomTypeProbabilities.
   std::string r2v_dir;                 // Empty: no R2V statistics.
+  int r2v_plans = kR2vTrainingPlans;   // The first this many sorted plans of r2v_dir (the training split).
 };
 
 struct RoomTypeTrainingSummary {

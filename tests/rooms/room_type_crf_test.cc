@@ -6,12 +6,16 @@
 //    (each view reports its room's true type with probability 0.5, else a random other type): the Gibbs CRF
 //    (conf + stat + obj) reaches per-pixel accuracy >= 0.75 and does not fall below majority voting - 0.05;
 //  - baselines: majority voting takes a segment's most voted type; the dense CRF pulls a weak node to its
-//    confident neighbours within the segment.
+//    confident neighbours within the segment;
+//  - the shipped model's R2V fixture statistics (counter, sink, toilet, bathtub) are those of the training
+//    seeds 0-39 and R2V plans 0-299 exactly (1e-12), and differ from a count that includes the validation
+//    plans 300-399 (skipped when ../shared/data/r2v is absent).
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <random>
 
+#include "rooms/r2v_plan.h"
 #include "rooms/room_type_crf.h"
 #include "rooms/room_type_training.h"
 #include "scenegen/apartment.h"
@@ -284,6 +288,27 @@ TEST(RoomTypeCrf, GeneratedApartmentWithNoisyScenesBeatsTheFloor) {
     EXPECT_GT(a.probability, 0.0);
     EXPECT_NE(a.second_type_id, a.type_id);
   }
+}
+
+TEST(RoomTypeTraining, ShippedFixtureStatisticsCountNoValidationPlan) {
+  const std::string r2v = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/r2v";
+  if (!std::filesystem::exists(r2v + "/plan_0000.txt")) GTEST_SKIP() << "R2V plans not found in " << r2v;
+  Result<RoomTypeModel> shipped = LoadRoomTypeModel(std::string(SEMVOX_SOURCE_DIR) + "/models/room_type_crf.json");
+  ASSERT_TRUE(shipped.ok()) << shipped.status().message();
+  std::vector<uint64_t> seeds(40);
+  for (size_t i = 0; i < seeds.size(); ++i) seeds[i] = i;
+  RoomTypeModel train_only = *shipped, with_validation = *shipped;
+  int plans = 0;
+  ASSERT_TRUE(RefreshR2vFixtureStatistics(seeds, r2v, kR2vTrainingPlans, &train_only, &plans).ok());
+  EXPECT_EQ(plans, kR2vTrainingPlans);
+  ASSERT_TRUE(RefreshR2vFixtureStatistics(seeds, r2v, 400, &with_validation).ok());
+  double leak = 0;
+  for (int k : R2vFixtureLabels())
+    for (int t = 0; t < kRoomTypeLabels; ++t) {
+      EXPECT_NEAR(shipped->object_type[size_t(k)][size_t(t)], train_only.object_type[size_t(k)][size_t(t)], 1e-12) << "object " << k << " type " << t;
+      leak = std::max(leak, std::abs(with_validation.object_type[size_t(k)][size_t(t)] - train_only.object_type[size_t(k)][size_t(t)]));
+    }
+  EXPECT_GT(leak, 1e-3);  // The validation plans would move the statistics: the check above can fail.
 }
 
 }  // namespace
