@@ -166,6 +166,10 @@ void DenseCrf::Filter(const Kernel& k, const std::vector<float>& in, int m1, std
 }
 
 void DenseCrf::Messages(const std::vector<float>& q, int m, bool brute_force, std::vector<float>* out) const {
+  Messages(q, m, brute_force, false, out);
+}
+
+void DenseCrf::Messages(const std::vector<float>& q, int m, bool brute_force, bool rows_sum_to_one, std::vector<float>* out) const {
   out->assign(size_t(n_) * size_t(m), 0.f);
   if (brute_force) {
     tbb::parallel_for(tbb::blocked_range<int>(0, n_, 16), [&](const tbb::blocked_range<int>& range) {
@@ -173,16 +177,29 @@ void DenseCrf::Messages(const std::vector<float>& q, int m, bool brute_force, st
     });
     return;
   }
-  // The normalisers Z_i = sum_j k(f_i, f_j) were filtered once in Create.
-  const size_t n = size_t(n_);
+  // The normalisers Z_i = sum_j k(f_i, f_j) were filtered once in Create. When every row of q sums to 1 (the
+  // mean-field marginals), the last label's sum is Z_i minus the others' (every filter is linear): only m - 1
+  // channels are filtered.
+  const size_t n = size_t(n_), mm = size_t(m), m1 = rows_sum_to_one && mm > 1 ? mm - 1 : mm;
+  std::vector<float> head;
+  if (m1 < mm) {
+    head.resize(n * m1);
+    for (size_t i = 0; i < n; ++i) std::copy_n(&q[i * mm], m1, &head[i * m1]);
+  }
   std::vector<float> filtered;
   for (const Kernel& k : kernels_) {
-    Filter(k, q, m, &filtered);
+    Filter(k, m1 < mm ? head : q, int(m1), &filtered);
     const float w = float(k.weight);
     for (size_t i = 0; i < n; ++i) {
       const float z = k.normaliser[i];
       if (!(z > 0)) continue;
-      for (size_t l = 0; l < size_t(m); ++l) (*out)[i * size_t(m) + l] += w * std::max(0.f, filtered[i * size_t(m) + l]) / z;
+      float rest = z;
+      for (size_t l = 0; l < m1; ++l) {
+        const float f = filtered[i * m1 + l];
+        rest -= f;
+        (*out)[i * mm + l] += w * std::max(0.f, f) / z;
+      }
+      if (m1 < mm) (*out)[i * mm + m1] += w * std::max(0.f, rest) / z;
     }
   }
 }
@@ -203,7 +220,7 @@ std::vector<float> DenseCrf::MeanField(const std::vector<float>& probabilities, 
   }
   std::vector<float> messages;
   for (int it = 0; it < options_.iterations; ++it) {
-    Messages(q, m, brute_force, &messages);
+    Messages(q, m, brute_force, true, &messages);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
       for (size_t i = range.begin(); i < range.end(); ++i) {
         float* qi = &q[i * size_t(m)];

@@ -103,6 +103,8 @@ class DenseCrf {
     std::vector<float> normaliser;  // n: Z_i = sum_j k(f_i, f_j), filtered once by Create.
     CubicGrid cubic;
   };
+  // Messages; with rows_sum_to_one (q holds marginals) the last label's message comes from the normaliser.
+  void Messages(const std::vector<float>& q, int m, bool brute_force, bool rows_sum_to_one, std::vector<float>* out) const;
   // Filters `in` (n x m1) with kernel k (separable grid convolution, cubic grid or lattice) into `out`.
   void Filter(const Kernel& k, const std::vector<float>& in, int m1, std::vector<float>* out) const;
   int n_ = 0, width_ = 0, height_ = 0;
