@@ -6,7 +6,10 @@
 // SetEdgeCapacities(id, cap_ij, cap_ji), SetTerminalCapacity(node, source_minus_sink) (overwrites), Solve() -> flow, InSinkSegment(node), MemoryBytes(). Every move sets every edge and node.
 #pragma once
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -110,6 +113,17 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       next_edge += 2;
     }
   }
+  // The move's pairwise edges are built in kEdgeChunks fixed ranges, in parallel when the graph allows
+  // concurrent SetEdgeCapacities on distinct edges and the problem is large enough to pay for it.
+  constexpr int kEdgeChunks = 2;
+  bool concurrent_edges = false;
+  if constexpr (requires { graph.PrepareConcurrentEdgeUpdates(); }) {
+    if (num_pairwise >= (1 << 15)) {
+      graph.PrepareConcurrentEdgeUpdates();
+      concurrent_edges = true;
+    }
+  }
+  std::vector<std::vector<double>> chunk_delta(kEdgeChunks - 1, std::vector<double>(size_t(N)));
   const NodeIncidence edge_incidence = energy.EdgeIncidence();
   const NodeIncidence clique_incidence = energy.CliqueIncidence();
 
@@ -207,84 +221,120 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       }
       std::fill(delta.begin() + N, delta.end(), 0.0);
       {
-        // Local accumulator (the compiler cannot keep `constant` in a register across graph calls).
-        double pairwise_constant = 0;
-        double* const d = delta.data();
+        // The pairwise edges in kEdgeChunks fixed ranges, run in parallel when the graph allows concurrent
+        // SetEdgeCapacities on distinct edges: each range adds its node terms into its own array (range 0
+        // into delta itself) and its constant into its own sum; the ranges are then added in range order, so
+        // the result does not depend on the threads. Arcs touching a decided node fold into the other end's
+        // unary or the constant and leave the graph. An edge whose two arcs were zero after the last cut
+        // carried no flow, so they are still zero: writing zero again is skipped (most edges of decided nodes).
         const CrfLabel* const x = labels.data();
-        // An arc tail -> head of capacity cap costs cap (1 - t_tail) t_head; arcs touching a decided node
-        // fold into the other end's unary or the constant and leave the graph.
-        // An edge whose two arcs were zero after the last cut carried no flow, so they are still zero:
-        // writing zero again is skipped (most edges of decided nodes).
-        auto set_edge = [&](int e, double cap) {
+        const uint8_t* const dec = prune ? decided.data() : nullptr;
+        auto state = [&](int v) { return dec ? dec[v] : kMoveFree; };
+        auto set_edge = [&](int e, double cap) {  // Distinct edges may be set concurrently.
           if (cap > 0 || edge_live[e]) {
             graph.SetEdgeCapacities(e, cap, 0);
             edge_live[e] = cap > 0;
           }
         };
-        // Branch-free (the states are random): keep -> free: cap t_head; keep -> switch: cap;
+        // An arc tail -> head of capacity cap costs cap (1 - t_tail) t_head; its node terms go to d, its
+        // constant to *pc. Branch-free (the states are random): keep -> free: cap t_head; keep -> switch: cap;
         // free -> switch: cap (1 - t_tail); free -> free: the arc; anything else: 0.
-        auto arc = [&](int e, int tail, int head, double cap, uint8_t ft, uint8_t fh) {
+        auto arc_into = [&](double* d, double* pc, int e, int tail, int head, double cap, uint8_t ft, uint8_t fh) {
           const bool tail_free = ft == kMoveFree, head_free = fh == kMoveFree;
           const bool tail_keep = ft == kMoveKeep, head_switch = fh == kMoveSwitch;
           set_edge(e, tail_free && head_free ? cap : 0.0);
           d[head] += (tail_keep && head_free) ? cap : 0.0;
           d[tail] -= (tail_free && head_switch) ? cap : 0.0;
-          pairwise_constant += ((tail_keep || tail_free) && head_switch) ? cap : 0.0;
+          *pc += ((tail_keep || tail_free) && head_switch) ? cap : 0.0;
         };
-        const uint8_t* const dec = prune ? decided.data() : nullptr;
-        auto state = [&](int v) { return dec ? dec[v] : kMoveFree; };
-        for (int e = 0; e < num_pairwise; ++e) {
-          const CrfEnergy::Edge& edge = edges[e];
-          const CrfLabel li = x[edge.i], lj = x[edge.j];
-          const bool fi = li == alpha, fj = lj == alpha;  // Fixed at alpha.
-          if (edge.model == CrfEnergy::kPottsModel) {
-            const double w = edge.weight;
+        auto edge_range = [&](int e_begin, int e_end, double* const d, double* constant_out, int64_t* truncated_out) {
+          double pairwise_constant = 0;  // Local accumulator (kept in a register across graph calls).
+          int64_t range_truncated = 0;
+          auto arc = [&](int e, int tail, int head, double cap, uint8_t ft, uint8_t fh) {
+            arc_into(d, &pairwise_constant, e, tail, head, cap, ft, fh);
+          };
+          for (int e = e_begin; e < e_end; ++e) {
+            const CrfEnergy::Edge& edge = edges[e];
+            const CrfLabel li = x[edge.i], lj = x[edge.j];
+            const bool fi = li == alpha, fj = lj == alpha;  // Fixed at alpha.
+            if (edge.model == CrfEnergy::kPottsModel) {
+              const double w = edge.weight;
+              if (fi || fj) {
+                // One end at alpha: [other end keeps its label] w = w - w t_other, a unary term; both: 0.
+                if (!(fi && fj)) {
+                  pairwise_constant += w;
+                  d[fi ? edge.j : edge.i] -= w;
+                }
+                set_edge(e, 0.0);
+              } else {
+                // A = w [li != lj], B = C = w, D = 0: E = A + (w - A) t_i - w t_j + (2w - A) (1 - t_i) t_j.
+                const double A = li != lj ? w : 0.0;
+                pairwise_constant += A;
+                d[edge.i] += w - A;
+                d[edge.j] -= w;
+                arc(e, edge.i, edge.j, 2 * w - A, state(edge.i), state(edge.j));
+              }
+              continue;
+            }
+            const double D = energy.EdgeCost(edge, alpha, alpha);
             if (fi || fj) {
-              // One end at alpha: [other end keeps its label] w = w - w t_other, a unary term; both: 0.
-              if (!(fi && fj)) {
-                pairwise_constant += w;
-                d[fi ? edge.j : edge.i] -= w;
+              if (fi && fj) {
+                pairwise_constant += D;
+              } else if (fj) {
+                const double A = energy.EdgeCost(edge, li, alpha);
+                pairwise_constant += A;
+                d[edge.i] += D - A;
+              } else {
+                const double A = energy.EdgeCost(edge, alpha, lj);
+                pairwise_constant += A;
+                d[edge.j] += D - A;
               }
               set_edge(e, 0.0);
             } else {
-              // A = w [li != lj], B = C = w, D = 0: E = A + (w - A) t_i - w t_j + (2w - A) (1 - t_i) t_j.
-              const double A = li != lj ? w : 0.0;
+              const double A = energy.EdgeCost(edge, li, lj);
+              const double B = energy.EdgeCost(edge, li, alpha);
+              const double Cc = energy.EdgeCost(edge, alpha, lj);
+              double cap = B + Cc - A - D;
+              if (cap < 0) {  // Non-submodular: truncate (the move is verified below).
+                ++range_truncated;
+                cap = 0;
+              }
               pairwise_constant += A;
-              d[edge.i] += w - A;
-              d[edge.j] -= w;
-              arc(e, edge.i, edge.j, 2 * w - A, state(edge.i), state(edge.j));
+              d[edge.i] += Cc - A;
+              d[edge.j] += D - Cc;
+              arc(e, edge.i, edge.j, cap, state(edge.i), state(edge.j));
             }
-            continue;
           }
-          const double D = energy.EdgeCost(edge, alpha, alpha);
-          if (fi || fj) {
-            if (fi && fj) {
-              pairwise_constant += D;
-            } else if (fj) {
-              const double A = energy.EdgeCost(edge, li, alpha);
-              pairwise_constant += A;
-              d[edge.i] += D - A;
-            } else {
-              const double A = energy.EdgeCost(edge, alpha, lj);
-              pairwise_constant += A;
-              d[edge.j] += D - A;
-            }
-            set_edge(e, 0.0);
-          } else {
-            const double A = energy.EdgeCost(edge, li, lj);
-            const double B = energy.EdgeCost(edge, li, alpha);
-            const double Cc = energy.EdgeCost(edge, alpha, lj);
-            double cap = B + Cc - A - D;
-            if (cap < 0) {  // Non-submodular: truncate (the move is verified below).
-              ++truncated;
-              cap = 0;
-            }
-            pairwise_constant += A;
-            d[edge.i] += Cc - A;
-            d[edge.j] += D - Cc;
-            arc(e, edge.i, edge.j, cap, state(edge.i), state(edge.j));
-          }
+          *constant_out = pairwise_constant;
+          *truncated_out = range_truncated;
+        };
+        std::array<double, kEdgeChunks> chunk_constant{};
+        std::array<int64_t, kEdgeChunks> chunk_truncated{};
+        auto run_chunk = [&](int k) {
+          const int e_begin = int(int64_t(num_pairwise) * k / kEdgeChunks), e_end = int(int64_t(num_pairwise) * (k + 1) / kEdgeChunks);
+          double* d = k == 0 ? delta.data() : chunk_delta[size_t(k - 1)].data();
+          if (k > 0) std::fill(chunk_delta[size_t(k - 1)].begin(), chunk_delta[size_t(k - 1)].end(), 0.0);
+          edge_range(e_begin, e_end, d, &chunk_constant[size_t(k)], &chunk_truncated[size_t(k)]);
+        };
+        if (concurrent_edges) {
+          tbb::parallel_for(0, kEdgeChunks, run_chunk);
+        } else {
+          for (int k = 0; k < kEdgeChunks; ++k) run_chunk(k);
         }
+        double pairwise_constant = 0;
+        for (int k = 0; k < kEdgeChunks; ++k) {
+          pairwise_constant += chunk_constant[size_t(k)];
+          truncated += chunk_truncated[size_t(k)];
+        }
+        for (int k = 1; k < kEdgeChunks; ++k) {
+          const double* src = chunk_delta[size_t(k - 1)].data();
+          for (int i = 0; i < N; ++i) delta[i] += src[i];
+        }
+        double* const d = delta.data();
+        // Clique arcs, after the edges (serial).
+        auto arc = [&](int e, int tail, int head, double cap, uint8_t ft, uint8_t fh) {
+          arc_into(d, &pairwise_constant, e, tail, head, cap, ft, fh);
+        };
         for (int c = 0; c < C; ++c) {
           const RobustPnMove plan = PlanRobustPnMove(energy, c, labels, alpha, &scratch);
           plans[c] = plan;

@@ -115,6 +115,14 @@ void MaxFlowGraph<Capacity>::ResetTerminalCapacities() {
 }
 
 template <typename Capacity>
+void MaxFlowGraph<Capacity>::PrepareConcurrentEdgeUpdates() {
+  if (edge_cap_.size() < edge_arc_.size()) {
+    edge_cap_.resize(edge_arc_.size(), Capacity(0));
+    edge_rev_cap_.resize(edge_arc_.size(), Capacity(0));
+  }
+}
+
+template <typename Capacity>
 void MaxFlowGraph<Capacity>::SetEdgeCapacitiesBeforeBuild(int edge, Capacity cap_ij, Capacity cap_ji) {
   MAXFLOW_CHECK(edge >= 0 && edge < num_edges());
   if (edge_cap_.size() < edge_arc_.size()) {

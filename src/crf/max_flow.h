@@ -76,6 +76,9 @@ class MaxFlowGraph {
     nodes_[node].terminal_cap = source_cap - sink_cap;
   }
   // Overwrites the two arc capacities of edge `edge` (valid after ResetCapacities() or before Solve()).
+  // Makes SetEdgeCapacities safe to call from several threads at once on distinct edges (until edges are
+  // added again): the per-edge capacity arrays it writes before the first Solve() exist.
+  void PrepareConcurrentEdgeUpdates();
   void SetEdgeCapacities(int edge, Capacity cap_ij, Capacity cap_ji) {
     if (!(cap_ij >= 0 && cap_ji >= 0)) NegativeCapacity();
     if (!arcs_valid_) return SetEdgeCapacitiesBeforeBuild(edge, cap_ij, cap_ji);
