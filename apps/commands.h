@@ -42,6 +42,7 @@ struct GenerateArgs {
   bool clean = false;  // No scan artefacts in mesh.ply.
   bool randomised = false;  // Also write scan.ply: the apartment scanned as the randomised training style does.
   std::string plan;    // An R2V floor plan (plan_*.txt) to build the apartment on instead of a drawn layout.
+  bool no_furniture = false;  // With --plan: only the plan's fixtures (no furniture by room type, no props).
   std::vector<std::string> settings;  // "apartment.NAME=V", "artefacts.NAME=V", "scan.NAME=V" overrides.
 };
 

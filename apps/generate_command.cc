@@ -177,6 +177,7 @@ Status RunGenerate(const GenerateArgs& args) {
     PlanApartmentOptions po;
     po.seed = uint64_t(args.seed);
     po.surface_cell_m = config.apartment.surface_cell_m;
+    po.furniture = po.props = !args.no_furniture;
     Result<Apartment> a = ApartmentFromLayout(*layout, po);
     if (!a.ok()) return Status::InvalidInput(FileError(args.plan, a.status().message(), "pass a plan_*.txt of ../shared/data/r2v"));
     a->plan = args.plan;

@@ -71,7 +71,8 @@ int main(int argc, char** argv) {
   gen_cmd->add_flag("--clean", gen.clean, "no scan artefacts in mesh.ply");
   gen_cmd->add_flag("--randomised", gen.randomised, "also write scan.ply: the apartment scanned in the randomised style (palette colours, textures, lighting; a fused cloud of random spacing or a mesh with random artefacts)");
   gen_cmd->add_option("--plan", gen.plan, "build the apartment on a real floor plan in the R2V format (plan_*.txt of ../shared/data/r2v): "
-                      "walls, door gaps, windows, the plan's fixtures; no furniture");
+                      "walls, door gaps, windows, the plan's fixtures, furniture by room type");
+  gen_cmd->add_flag("--no-furniture", gen.no_furniture, "with --plan: only the plan's fixtures, no furniture or props");
   gen_cmd->add_option("--set", gen.settings, "override an option: apartment.NAME=V, artefacts.NAME=V or scan.NAME=V (repeatable; "
                       "see docs/generator.md)");
 

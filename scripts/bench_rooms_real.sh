@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Rooms on real apartment layouts, end to end: each validation R2V plan (300-399 of ../shared/data/r2v, never
 # trained on) built into a 3D apartment (`semvox generate --plan`: walls, door gaps with lintels, windows,
-# fixtures, no furniture), run whole through `semvox run` as mesh and as simulated fused cloud, and scored by
+# fixtures, furniture by room type; --no-furniture: fixtures only), run whole through `semvox run` as mesh and as
+# simulated fused cloud, and scored by
 # `semvox eval`: room segmentation recall / precision, room-type pixel accuracy and class average, top-view
 # coverage (the geometric accuracy: the share of floor-plan pixels whose free / occupied state is right), the
 # run's seconds; per plan and mean, the room-type confusion in m² summed over the plans, then the ipa maps of
 # ../shared/data beside them (scripts/bench_rooms.sh's figures, distance method). Exits 0 with a message when
 # the plans are absent.
-# Usage: scripts/bench_rooms_real.sh [--plans 300-399] [--inputs mesh,cloud] [--keep DIR]
+# Usage: scripts/bench_rooms_real.sh [--plans 300-399] [--inputs mesh,cloud] [--keep DIR] [--no-furniture]
 #   SEMVOX_BUILD_DIR  build directory (default build)
 #   SEMVOX_R2V        plan directory (default ../shared/data/r2v)
 set -euo pipefail
@@ -17,12 +18,14 @@ R2V=${SEMVOX_R2V:-../shared/data/r2v}
 PLANS=300-399
 INPUTS=mesh,cloud
 KEEP=
+FURNITURE=
 while [ $# -gt 0 ]; do
   case "$1" in
     --plans) PLANS=$2; shift 2 ;;
     --inputs) INPUTS=$2; shift 2 ;;
     --keep) KEEP=$2; shift 2 ;;
-    *) echo "bench_rooms_real.sh: unknown argument $1 (hint: --plans A-B, --inputs mesh,cloud, --keep DIR)" >&2; exit 2 ;;
+    --no-furniture) FURNITURE=--no-furniture; shift ;;
+    *) echo "bench_rooms_real.sh: unknown argument $1 (hint: --plans A-B, --inputs mesh,cloud, --keep DIR, --no-furniture)" >&2; exit 2 ;;
   esac
 done
 if [ ! -d "$R2V" ]; then
@@ -47,8 +50,8 @@ for i in $(seq "$first" "$last"); do
   [ "$i" -lt "${#FILES[@]}" ] || break
   plan=${FILES[$i]}
   dir=$WORK/$i
-  flags=
-  [[ $INPUTS == *cloud* ]] && flags=--cloud
+  flags=$FURNITURE
+  [[ $INPUTS == *cloud* ]] && flags="$flags --cloud"
   if ! "$SEMVOX" -q generate --plan "$plan" --seed "$i" $flags -o "$dir" 2>"$dir.err"; then
     echo "plan $i: generate failed: $(cat "$dir.err")"
     continue

@@ -40,7 +40,7 @@ class RoomFurnisher {
         if (room != room_index) continue;
         const int side = k == 0 ? d.side_a : (d.side_a + 2) % 4;
         const double w = d.b - d.a;
-        keep_.push_back(WallFootprint(side, 0.5 * (d.a + d.b), w + 0.1, w + 0.1, 0, H_));
+        keep_.push_back(WallFootprint(side, 0.5 * (d.a + d.b), w + 0.1, std::min(w, plan.max_door_swing) + 0.1, 0, H_));
       }
     }
     for (const PlanWindow& w : plan.windows)
@@ -108,6 +108,7 @@ class RoomFurnisher {
   // An empty `sides` means every side with a wall (not the open side of an open-plan space).
   bool PlaceAgainstWall(double w, double d, double h, std::vector<int> sides, double front, Pose* out,
                         double mount_z = 0.0, int attempts = 40) {
+    front *= plan_.front_clearance_scale;
     if (sides.empty())
       for (int s = 0; s < 4; ++s)
         if (HasWall(s)) sides.push_back(s);
@@ -616,7 +617,8 @@ void Desk(RoomFurnisher* f) {
 
 void Bedroom(RoomFurnisher* f, bool child) {
   Rng* r = f->rng();
-  Bed(f, !child && f->in().area() > 8.5);
+  const bool dbl = !child && f->in().area() > 8.5;
+  if (Bed(f, dbl) < 0 && dbl && f->plan().single_bed_fallback) Bed(f, false);
   if (r->Bernoulli(0.75)) Wardrobe(f);
   if (r->Bernoulli(child ? 0.6 : 0.5)) Dresser(f);
   if (child) {

@@ -70,6 +70,14 @@ struct FloorPlan {
   std::vector<PlanDoor> doors;
   std::vector<PlanWindow> windows;
   double interior_wall = 0.1, exterior_wall = 0.2, ceiling = 2.6;
+  // Scales the walkway kept free in front of furniture against a wall (beds, wardrobes, counters): 1 in drawn
+  // layouts; smaller in the tighter rooms of real plans (plan_apartment.h).
+  double front_clearance_scale = 1.0;
+  // Depth of the swing square kept clear in front of a door: its width, at most this (wide openings and
+  // sliding doors of real plans need a walkway, not a square as deep as they are wide).
+  double max_door_swing = 1e9;
+  // A bedroom whose double bed finds no place against a wall tries a single bed (real plans).
+  bool single_bed_fallback = false;
 };
 
 // Draws a plan with `num_rooms` rooms; false when this draw does not fit (the caller draws again).

@@ -68,6 +68,133 @@ struct Span {
   bool door;
 };
 
+// The largest axis-aligned rectangle of set pixels in `mask` (histogram method, O(pixels)); area 0 when the
+// mask is empty. Ties: the first found scanning rows upward, then columns.
+struct PixelRect {
+  int c0 = 0, r0 = 0, c1 = -1, r1 = -1;  // Inclusive.
+  int64_t area() const { return c1 < c0 || r1 < r0 ? 0 : int64_t(c1 - c0 + 1) * (r1 - r0 + 1); }
+};
+PixelRect LargestRectangle(const std::vector<uint8_t>& mask, int w, int h) {
+  PixelRect best;
+  std::vector<int> height(size_t(w), 0), stack;
+  for (int r = 0; r < h; ++r) {
+    for (int c = 0; c < w; ++c) height[size_t(c)] = mask[size_t(r) * size_t(w) + size_t(c)] ? height[size_t(c)] + 1 : 0;
+    stack.clear();
+    for (int c = 0; c <= w; ++c) {
+      const int hc = c < w ? height[size_t(c)] : 0;
+      while (!stack.empty() && height[size_t(stack.back())] >= hc) {
+        const int top = stack.back();
+        stack.pop_back();
+        const int left = stack.empty() ? 0 : stack.back() + 1;
+        const int hh = height[size_t(top)];
+        const int64_t area = int64_t(hh) * (c - left);
+        if (area > best.area()) best = PixelRect{left, r - hh + 1, c - 1, r};
+      }
+      stack.push_back(c);
+    }
+  }
+  return best;
+}
+
+// Furniture by room type (scenegen/furniture.cc) in the typed rooms, except kitchens, bathrooms and
+// laundries that hold fixtures of the plan (counters, basins, toilets, baths); a living room with a cooking
+// counter is furnished as an open-plan kitchen and living room. Each room is
+// furnished inside the largest axis-aligned rectangle of its floor that keeps clear of every pixel of no
+// room (walls, outside) by half a wall and 3 cm and of the fixtures by 0.1 m. A side of that rectangle is a
+// wall (furniture may stand against it) when most of the pixels just beyond it are not the room's; door gaps
+// within 0.35 m of a side become doors of that side, whose swing squares the furniture keeps clear (as in
+// generated apartments). Rooms whose rectangle is under 1.2 x 1.0 m get none.
+void FurnishPlanRooms(const Apartment& apt, const PlanLayout& layout, const PlanApartmentOptions& o, Rng* rng, ApartmentBuilder* b) {
+  const ImageU16& raster = apt.room_raster;
+  const int W = raster.width, H = raster.height;
+  const double res = apt.room_raster_m;
+  const Eigen::Vector2d origin = apt.room_raster_origin;
+  const int max_id = int(apt.rooms.size());
+  auto px_x = [&](double x) { return int(std::floor((x - origin.x()) / res)); };
+  auto px_y = [&](double y) { return int(std::floor((y - origin.y()) / res)); };
+  std::vector<uint8_t> blocked(size_t(W) * size_t(H), 0);  // Fixtures and 0.1 m around them.
+  std::vector<bool> has_fixture(size_t(max_id) + 1, false);
+  for (const PlanLayout::Fixture& f : layout.fixtures) {
+    const Eigen::Vector2d lo = f.lo.cwiseMin(f.hi), hi = f.lo.cwiseMax(f.hi), c = 0.5 * (lo + hi);
+    if (!lo.allFinite() || !hi.allFinite()) continue;
+    if (const int id = RoomIdAt(apt, c.x(), c.y())) has_fixture[size_t(id)] = true;
+    for (int r = std::max(0, px_y(lo.y() - 0.1)); r <= std::min(H - 1, px_y(hi.y() + 0.1)); ++r)
+      for (int cc = std::max(0, px_x(lo.x() - 0.1)); cc <= std::min(W - 1, px_x(hi.x() + 0.1)); ++cc)
+        blocked[size_t(r) * size_t(W) + size_t(cc)] = 1;
+  }
+  const int wall_clear = int(std::ceil((0.5 * o.wall_m + 0.03) / res));  // Pixels (chessboard) from no room.
+  const RoomTypeIds& types = RoomTypeIds::Get();
+  scenegen::FloorPlan plan;
+  plan.ceiling = o.ceiling_m;
+  plan.front_clearance_scale = 0.5;  // Real rooms are tighter than drawn ones: 0.3 m in front of a bed.
+  plan.max_door_swing = 0.5;
+  plan.single_bed_fallback = true;
+  plan.rooms.resize(size_t(max_id));
+  std::vector<uint8_t> mask(size_t(W) * size_t(H));
+  for (int id = 1; id <= max_id; ++id) {
+    scenegen::PlanRoom& pr = plan.rooms[size_t(id - 1)];
+    const int type = apt.rooms[size_t(id - 1)].type_id;
+    // Kitchens, bathrooms and laundries with fixtures of the plan are furnished by them; a living room with a
+    // cooking counter is an open-plan kitchen and living room.
+    const bool fixture_room = type == types.kitchen || type == types.bathroom || type == types.laundry;
+    if (type <= 0 || (has_fixture[size_t(id)] && fixture_room) || apt.rooms[size_t(id - 1)].area <= 0) continue;
+    pr.open_group = has_fixture[size_t(id)] ? 0 : -1;
+    for (int r = 0; r < H; ++r)
+      for (int c = 0; c < W; ++c) {
+        bool ok = raster.at(c, r) == id && !blocked[size_t(r) * size_t(W) + size_t(c)];
+        for (int dr = -wall_clear; ok && dr <= wall_clear; ++dr)
+          for (int dc = -wall_clear; ok && dc <= wall_clear; ++dc) {
+            const int rr = r + dr, cc = c + dc;
+            ok = rr >= 0 && rr < H && cc >= 0 && cc < W && raster.at(cc, rr) == id;
+          }
+        mask[size_t(r) * size_t(W) + size_t(c)] = ok;
+      }
+    const PixelRect rect = LargestRectangle(mask, W, H);
+    const double wx = (rect.c1 - rect.c0 + 1) * res, wy = (rect.r1 - rect.r0 + 1) * res;
+    if (rect.area() == 0 || std::max(wx, wy) < 1.2 || std::min(wx, wy) < 1.0) continue;
+    pr.type = type;
+    pr.interior = scenegen::Rect{origin.x() + rect.c0 * res, origin.y() + rect.r0 * res, origin.x() + (rect.c1 + 1) * res,
+                                 origin.y() + (rect.r1 + 1) * res};
+    pr.cell = pr.interior;
+    // A side is a wall when most pixels wall_clear + 2 beyond it are not the room's.
+    auto beyond_is_wall = [&](int side) {
+      int other = 0, total = 0;
+      const int reach = wall_clear + 2;
+      if (side == scenegen::kSouth || side == scenegen::kNorth) {
+        const int r = side == scenegen::kSouth ? rect.r0 - reach : rect.r1 + reach;
+        for (int c = rect.c0; c <= rect.c1; ++c, ++total) other += !(r >= 0 && r < H && raster.at(c, r) == id);
+      } else {
+        const int c = side == scenegen::kWest ? rect.c0 - reach : rect.c1 + reach;
+        for (int r = rect.r0; r <= rect.r1; ++r, ++total) other += !(c >= 0 && c < W && raster.at(c, r) == id);
+      }
+      return total > 0 && 2 * other > total;
+    };
+    for (int side = 0; side < 4; ++side) pr.shrink[side] = beyond_is_wall(side) ? 0.5 * o.wall_m : 0.0;
+    // Door gaps along a side (parallel to it, within 0.35 m of its line, overlapping its extent).
+    const scenegen::Rect& in = pr.interior;
+    for (const PlanLayout::Segment& d : layout.doors) {
+      const Eigen::Vector2d dd = d.b - d.a;
+      if (dd.norm() < 1e-3) continue;
+      const bool along_x = std::fabs(dd.x()) >= std::fabs(dd.y());
+      const double mid = along_x ? 0.5 * (d.a.y() + d.b.y()) : 0.5 * (d.a.x() + d.b.x());
+      const double lo = along_x ? std::min(d.a.x(), d.b.x()) : std::min(d.a.y(), d.b.y());
+      const double hi = along_x ? std::max(d.a.x(), d.b.x()) : std::max(d.a.y(), d.b.y());
+      for (int side = 0; side < 4; ++side) {
+        const bool side_along_x = side == scenegen::kSouth || side == scenegen::kNorth;
+        if (side_along_x != along_x) continue;
+        const double line = side == scenegen::kSouth ? in.y0 : side == scenegen::kNorth ? in.y1 : side == scenegen::kWest ? in.x0 : in.x1;
+        const double s0 = side_along_x ? in.x0 : in.y0, s1 = side_along_x ? in.x1 : in.y1;
+        if (std::fabs(mid - line) > 0.35 || hi <= s0 || lo >= s1) continue;
+        scenegen::PlanDoor door;
+        door.room_a = id - 1, door.side_a = side;
+        door.a = std::max(lo, s0), door.b = std::min(hi, s1);
+        plan.doors.push_back(door);
+      }
+    }
+  }
+  scenegen::FurnishApartment(plan, o.props, /*variety=*/true, rng, b);
+}
+
 }  // namespace
 
 Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartmentOptions& o) {
@@ -302,6 +429,7 @@ Result<Apartment> ApartmentFromLayout(const PlanLayout& layout, const PlanApartm
     b.Box(-size.x() / 2, -size.y() / 2, 0, size.x() / 2, size.y() / 2, h, colour, true);
     b.End();
   }
+  if (o.furniture) FurnishPlanRooms(apt, layout, o, &rng, &b);
   b.Finish();
   return apt;
 }

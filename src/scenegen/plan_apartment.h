@@ -7,8 +7,8 @@
 //   Result<Apartment> apt = ApartmentFromLayout(layout, PlanApartmentOptions{});
 //
 // Rooms need not be rectangles: the room ground truth is the layout's raster (Apartment::room_raster), and
-// RoomGt's x0..y1 is the room's bounding box. No furniture is placed (the generator's furniture needs
-// rectangular rooms); the plan's fixtures are the only objects.
+// RoomGt's x0..y1 is the room's bounding box. The plan's fixtures are boxes; the other typed rooms are
+// furnished by type inside the largest rectangle of their floor (PlanApartmentOptions::furniture).
 #pragma once
 
 #include <Eigen/Core>
@@ -51,6 +51,11 @@ struct PlanApartmentOptions {
   // Regions of the raster smaller than this are no rooms (pipe shafts, cupboards no one walks into): left
   // out of the ground truth, their floor kept, m². >= 0.
   double min_room_area_m2 = 0.5;
+  // Furniture by room type (the generator's, scenegen/furniture.cc) in each typed room that holds no fixture
+  // of the plan, inside the largest axis-aligned rectangle of its floor clear of walls, door gaps and
+  // fixtures; with props on its support surfaces and the floor.
+  bool furniture = true;
+  bool props = true;
 
   bool Check(std::string* error) const;
 };

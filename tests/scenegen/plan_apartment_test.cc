@@ -3,6 +3,10 @@
 //    ground truth is the plan's raster, walls stand on the wall lines with a gap and a lintel at the door,
 //    every wall face is tagged with the room it faces, floors cover the rooms and the door gap, the toilet
 //    is an object of the WC; an exterior wall of the living room gets a window;
+//  - furniture on that flat: the living room (no fixture) is furnished, every corner of every piece stands
+//    on the living room's own floor (no wall, no other room, not the door gap), at least 0.3 m from the door
+//    gap's centre; the WC (it has its toilet) gets nothing more; with `furniture = false` the fixtures and
+//    windows are the only objects;
 //  - `semvox generate --plan` on a real R2V plan of ../shared/data/r2v (skipped when absent): the files
 //    of a generated apartment, with one room per closed region of the plan; bad plans rejected with one
 //    error line and nothing written.
@@ -122,6 +126,34 @@ TEST(PlanApartment, LShapedFlatHasItsRoomsWallsDoorGapAndFixture) {
   for (uint16_t v : gt.data) ++px[std::min<int>(v, 2)];
   EXPECT_NEAR(px[1] * g.resolution * g.resolution, living.area_m2(), 0.1);
   EXPECT_NEAR(px[2] * g.resolution * g.resolution, apt->rooms[1].area_m2(), 0.1);
+}
+
+TEST(PlanApartment, FurnitureStandsOnItsRoomsFloorClearOfWallsAndDoors) {
+  const PlanLayout layout = LShapedFlat();
+  PlanApartmentOptions options;
+  for (uint64_t seed = 0; seed < 4; ++seed) {
+    options.seed = seed;
+    Result<Apartment> apt = ApartmentFromLayout(layout, options);
+    ASSERT_TRUE(apt.ok()) << apt.status().message();
+    int living = 0;
+    for (const ObjectGt& o : apt->objects) {
+      if (o.label == nyu40::kWindow || o.label == nyu40::kToilet) continue;
+      EXPECT_EQ(o.room, 1) << "seed " << seed << ": a " << o.label << " outside the living room";
+      ++living;
+      const double c = std::cos(o.box.yaw_rad), s = std::sin(o.box.yaw_rad);
+      for (int corner = 0; corner < 4; ++corner) {
+        const double lx = (corner & 1 ? 0.5 : -0.5) * o.box.size.x(), ly = (corner & 2 ? 0.5 : -0.5) * o.box.size.y();
+        const double x = o.box.center.x() + c * lx - s * ly, y = o.box.center.y() + s * lx + c * ly;
+        EXPECT_EQ(RoomIdAt(*apt, x, y), 1) << "seed " << seed << ": object " << o.label << " corner (" << x << ", " << y << ")";
+        EXPECT_GT(std::hypot(x - 3.0, y - 2.05), 0.3) << "seed " << seed << ": object " << o.label << " in the door gap";
+      }
+    }
+    EXPECT_GE(living, 2) << "seed " << seed << ": the living room is furnished";
+  }
+  options.furniture = false;
+  Result<Apartment> bare = ApartmentFromLayout(layout, options);
+  ASSERT_TRUE(bare.ok());
+  for (const ObjectGt& o : bare->objects) EXPECT_TRUE(o.label == nyu40::kWindow || o.label == nyu40::kToilet) << o.label;
 }
 
 TEST(PlanApartment, RegionsTooSmallToEnterAreNoRooms) {
