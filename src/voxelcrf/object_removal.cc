@@ -101,38 +101,33 @@ std::vector<uint8_t> SelectForRemoval(const SemanticMap& map, const std::vector<
   return out;
 }
 
-Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::vector<uint8_t>& remove,
-                     const ObjectRemovalOptions& options, ObjectRemovalResult* result) {
-  const auto t0 = std::chrono::steady_clock::now();
-  std::string err;
-  if (!options.Check(&err)) return Status::InvalidInput("object removal options: " + err);
-  if (remove.size() != map.occupied.size()) return Status::Internal("RemoveObjects: one flag per record expected");
-  ObjectRemovalResult& out = *result;
-  out = ObjectRemovalResult{};
-  VoxelGrid g = grid;
-  const size_t nvox = g.size();
-  const double res = g.resolution();
+namespace {
 
-  // Fixed labels of the remaining occupied voxels (0 = none).
-  std::vector<uint16_t> label_of(nvox, 0);
-  std::vector<int32_t> record_of(nvox, -1);
-  std::vector<uint32_t> removed;
+// Phase 1: the removed records' voxels become unknown; the others stay occupied with their labels.
+struct AfterRemoval {
+  std::vector<uint16_t> label_of;  // Per voxel: the label of a remaining occupied voxel, 0 otherwise.
+  std::vector<uint32_t> removed;   // Voxels of the removed records.
+};
+AfterRemoval ClearRemoved(const SemanticMap& map, const std::vector<uint8_t>& remove, VoxelGrid* g) {
+  AfterRemoval a;
+  a.label_of.assign(g->size(), 0);
   for (size_t k = 0; k < map.occupied.size(); ++k) {
     const auto& r = map.occupied[k];
     if (remove[k]) {
-      g.set_state(r.voxel, VoxelState::kUnknown);
-      removed.push_back(r.voxel);
+      g->set_state(r.voxel, VoxelState::kUnknown);
+      a.removed.push_back(r.voxel);
     } else {
-      g.set_state(r.voxel, VoxelState::kOccupied);
-      label_of[r.voxel] = r.label;
-      record_of[r.voxel] = int32_t(k);
+      g->set_state(r.voxel, VoxelState::kOccupied);
+      a.label_of[r.voxel] = r.label;
     }
   }
-  out.removed_voxels = removed.size();
+  return a;
+}
 
-  // Completion nodes: the removed voxels and the unknown voxels within the band (26-neighbour BFS).
-  const int band = int(std::floor(options.completion_band_m / res + 1e-9));
-  std::vector<uint8_t> dist(nvox, 255);
+// Phase 2: the completion nodes, the removed voxels and the unknown voxels within `band` cells of them
+// (26-neighbour BFS), sorted by voxel index.
+std::vector<uint32_t> CompletionNodes(const VoxelGrid& g, const std::vector<uint32_t>& removed, int band) {
+  std::vector<uint8_t> dist(g.size(), 255);
   std::vector<uint32_t> frontier = removed, next;
   for (uint32_t v : removed) dist[v] = 0;
   std::vector<uint32_t> node_voxel = removed;
@@ -152,13 +147,17 @@ Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::v
     }
     frontier.swap(next);
   }
-  std::vector<uint8_t>().swap(dist);
   std::sort(node_voxel.begin(), node_voxel.end());
-  const int n_nodes = int(node_voxel.size());
-  out.nodes = node_voxel.size();
-  out.unknown_nodes = node_voxel.size() - removed.size();
+  return node_voxel;
+}
 
-  // Plane detection on the remaining occupied voxels (plus the completion nodes, which the hulls may cover).
+// Phase 3: planes of the remaining occupied voxels (normals by PCA of the occupied 5x5x5 neighbourhood,
+// oriented towards the free 26-neighbours); per completion node the label of the largest plane whose hull
+// covers it (0 = none). `node_of_voxel` receives the completion node of each voxel (-1 none).
+std::vector<uint16_t> PlaneLabelsOfNodes(const VoxelGrid& g, const std::vector<uint16_t>& label_of, const std::vector<uint32_t>& node_voxel,
+                                         const ObjectRemovalOptions& options, std::vector<int32_t>* node_of_voxel, size_t* planes_found,
+                                         size_t* planes_used) {
+  const size_t nvox = g.size();
   VoxelCrfNodes pn;
   pn.node_of_voxel.assign(nvox, -1);
   for (size_t i = 0; i < nvox; ++i)
@@ -178,7 +177,6 @@ Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::v
   ev.hits.assign(pn.size(), 0);
   ev.normal.assign(pn.size(), Eigen::Vector3f::Zero());
   ev.observing_views.assign(pn.size(), 0);
-  // Normals: PCA of the occupied 5x5x5 neighbourhood, oriented towards the free 26-neighbours.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n_occ, 4096), [&](const tbb::blocked_range<size_t>& range) {
     for (size_t i = range.begin(); i != range.end(); ++i) {
       const auto c = g.Cell(pn.voxel[i]);
@@ -211,9 +209,9 @@ Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::v
     }
   });
   const std::vector<DetectedPlane> planes = DetectPlanes(g, pn, ev, options.planes);
-  out.planes = planes.size();
-  // Per completion node the label of the largest plane whose hull covers it (0 = none).
-  std::vector<uint16_t> plane_label(size_t(n_nodes), 0);
+  *planes_found = planes.size();
+  *planes_used = 0;
+  std::vector<uint16_t> plane_label(node_voxel.size(), 0);
   for (const DetectedPlane& p : planes) {
     std::map<int, size_t> votes;
     for (int m : p.members) ++votes[label_of[pn.voxel[size_t(m)]]];
@@ -225,21 +223,36 @@ Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::v
     bool used = false;
     for (int h : p.hull_nodes)
       if (size_t(h) >= n_occ && plane_label[size_t(h) - n_occ] == 0) plane_label[size_t(h) - n_occ] = uint16_t(best), used = true;
-    out.planes_used += used;
+    *planes_used += used;
   }
-  std::vector<int32_t> node_of_voxel = std::move(pn.node_of_voxel);
-  for (int32_t& v : node_of_voxel) v = v >= int32_t(n_occ) ? v - int32_t(n_occ) : -1;
-  pn = VoxelCrfNodes{};
-  ev = VoxelEvidence{};
+  *node_of_voxel = std::move(pn.node_of_voxel);
+  for (int32_t& v : *node_of_voxel) v = v >= int32_t(n_occ) ? v - int32_t(n_occ) : -1;
+  return plane_label;
+}
 
-  // Candidate labels: empty, the plane labels and the labels of fixed occupied voxels next to the nodes.
-  std::vector<int> label_value = {0};
+// Phase 4: the completion CRF over the nodes. Labels: empty, the plane labels and the labels of fixed
+// occupied voxels next to the nodes; per node its 6 face neighbours (>= 0 node, -1 nothing, -2 free,
+// -2 - l the fixed label index l).
+struct CompletionProblem {
+  std::vector<int> label_value = {0};  // Label index -> NYU40 id (0: empty).
+  std::vector<std::array<int32_t, 6>> nb;
+  std::vector<float> unary;            // nodes x labels.
+  float V(int a, int b, const ObjectRemovalOptions& o) const {
+    if (a == b) return 0.f;
+    return float(a == 0 || b == 0 ? o.w_occupancy : o.w_semantic);
+  }
+};
+Status SolveCompletion(const VoxelGrid& g, const std::vector<uint16_t>& label_of, const std::vector<uint32_t>& node_voxel,
+                       const std::vector<int32_t>& node_of_voxel, const std::vector<uint16_t>& plane_label,
+                       const ObjectRemovalOptions& options, CompletionProblem* prob, std::vector<int>* labels,
+                       ObjectRemovalResult* out) {
+  const int n_nodes = int(node_voxel.size());
   std::vector<int> index_of_label(65536, -1);
   index_of_label[0] = 0;
   auto add_label = [&](int l) {
-    if (l > 0 && index_of_label[size_t(l)] < 0) index_of_label[size_t(l)] = int(label_value.size()), label_value.push_back(l);
+    if (l > 0 && index_of_label[size_t(l)] < 0) index_of_label[size_t(l)] = int(prob->label_value.size()), prob->label_value.push_back(l);
   };
-  std::vector<std::array<int32_t, 6>> nb(static_cast<size_t>(n_nodes));  // >= 0 node, -1 nothing, -2 - l fixed label index l.
+  prob->nb.assign(size_t(n_nodes), {});
   for (int i = 0; i < n_nodes; ++i) {
     add_label(plane_label[size_t(i)]);
     const auto c = g.Cell(node_voxel[size_t(i)]);
@@ -251,76 +264,79 @@ Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::v
         else if (g.state(size_t(n)) == VoxelState::kFree) code = -2;
         else if (g.state(size_t(n)) == VoxelState::kOccupied) add_label(label_of[size_t(n)]), code = -2 - index_of_label[label_of[size_t(n)]];
       }
-      nb[size_t(i)][size_t(f)] = code;
+      prob->nb[size_t(i)][size_t(f)] = code;
     }
   }
-  const int L = int(label_value.size());
-  auto V = [&](int a, int b) -> float {
-    if (a == b) return 0.f;
-    return float(a == 0 || b == 0 ? options.w_occupancy : options.w_semantic);
-  };
-  std::vector<int> labels(size_t(n_nodes), 0);
-  std::vector<float> unary(size_t(n_nodes) * size_t(L), 0.f);
-  if (n_nodes > 0) {
-    CrfEnergy energy(n_nodes, L);
-    std::vector<float> matrix(size_t(L) * L);
-    for (int a = 0; a < L; ++a)
-      for (int b = 0; b < L; ++b) matrix[size_t(a) * L + b] = V(a, b);
-    const int model = L > 1 ? energy.AddCompatibilityModel(matrix) : CrfEnergy::kPottsModel;
-    for (int i = 0; i < n_nodes; ++i) {
-      float* u = &unary[size_t(i) * L];
-      const int pl = plane_label[size_t(i)] ? index_of_label[plane_label[size_t(i)]] : -1;
-      for (int k = 0; k < L; ++k) {
-        float cost = k ? float(options.w_unseen) : 0.f;
-        for (int f = 0; f < 6; ++f) {
-          const int32_t code = nb[size_t(i)][size_t(f)];
-          // A fixed occupied neighbour only asks for semantic agreement: it does not pull unseen space
-          // into occupancy (that would thicken every surface into the unknown space behind it).
-          if (code == -2) cost += V(k, 0);
-          else if (code < -2 && k != 0) cost += V(k, -2 - code);
-        }
-        if (pl >= 0 && k != pl) cost += float(options.w_plane);
-        u[k] = cost;
-        energy.SetUnary(i, k, cost);
+  const int L = int(prob->label_value.size());
+  labels->assign(size_t(n_nodes), 0);
+  prob->unary.assign(size_t(n_nodes) * size_t(L), 0.f);
+  if (n_nodes == 0) return Status::Ok();
+  CrfEnergy energy(n_nodes, L);
+  std::vector<float> matrix(size_t(L) * L);
+  for (int a = 0; a < L; ++a)
+    for (int b = 0; b < L; ++b) matrix[size_t(a) * L + b] = prob->V(a, b, options);
+  const int model = L > 1 ? energy.AddCompatibilityModel(matrix) : CrfEnergy::kPottsModel;
+  for (int i = 0; i < n_nodes; ++i) {
+    float* u = &prob->unary[size_t(i) * L];
+    const int pl = plane_label[size_t(i)] ? index_of_label[plane_label[size_t(i)]] : -1;
+    for (int k = 0; k < L; ++k) {
+      float cost = k ? float(options.w_unseen) : 0.f;
+      for (int f = 0; f < 6; ++f) {
+        const int32_t code = prob->nb[size_t(i)][size_t(f)];
+        // A fixed occupied neighbour only asks for semantic agreement: it does not pull unseen space
+        // into occupancy (that would thicken every surface into the unknown space behind it).
+        if (code == -2) cost += prob->V(k, 0, options);
+        else if (code < -2 && k != 0) cost += prob->V(k, -2 - code, options);
       }
-      for (int f = 0; f < 6; f += 2) {  // +x, +y, +z: each edge once.
-        const int32_t j = nb[size_t(i)][size_t(f)];
-        if (j >= 0) energy.AddEdge(i, j, 1.0f, model);
-      }
+      if (pl >= 0 && k != pl) cost += float(options.w_plane);
+      u[k] = cost;
+      energy.SetUnary(i, k, cost);
     }
-    std::vector<CrfLabel> x;
-    SEMVOX_RETURN_IF_ERROR(InitializeLabels(energy, options.solver.initial_labelling, &x));
-    out.energy_initial = energy.Evaluate(x);
-    CrfSolverSummary summary;
-    SEMVOX_RETURN_IF_ERROR(MinimizeWithAlphaExpansion(energy, options.solver, &x, &summary));
-    out.energy_final = energy.Evaluate(x);
-    labels.assign(x.begin(), x.end());
+    for (int f = 0; f < 6; f += 2) {  // +x, +y, +z: each edge once.
+      const int32_t j = prob->nb[size_t(i)][size_t(f)];
+      if (j >= 0) energy.AddEdge(i, j, 1.0f, model);
+    }
   }
+  std::vector<CrfLabel> x;
+  SEMVOX_RETURN_IF_ERROR(InitializeLabels(energy, options.solver.initial_labelling, &x));
+  out->energy_initial = energy.Evaluate(x);
+  CrfSolverSummary summary;
+  SEMVOX_RETURN_IF_ERROR(MinimizeWithAlphaExpansion(energy, options.solver, &x, &summary));
+  out->energy_final = energy.Evaluate(x);
+  labels->assign(x.begin(), x.end());
+  return Status::Ok();
+}
 
-  // The new map: remaining records, then completed ones; states after completion.
-  SemanticMap& m = out.map;
-  std::vector<uint8_t> is_removed(nvox, 0);
+// Phase 5: the new map: the remaining records, then a record per node labelled occupied (with its
+// confidence p(l_i | neighbours) under the final energy); node states after completion. Returns the indices
+// into m->occupied of the completed records.
+std::vector<size_t> ApplyCompletion(const SemanticMap& map, const std::vector<uint8_t>& remove, const std::vector<uint32_t>& removed,
+                                    const std::vector<uint32_t>& node_voxel, const CompletionProblem& prob, const std::vector<int>& labels,
+                                    const ObjectRemovalOptions& options, VoxelGrid* g, SemanticMap* m,
+                                    std::vector<std::pair<int, size_t>>* completed_labels_out) {
+  const int n_nodes = int(node_voxel.size());
+  const int L = int(prob.label_value.size());
+  std::vector<uint8_t> is_removed(g->size(), 0);
   for (uint32_t v : removed) is_removed[v] = 1;
   for (size_t k = 0; k < map.occupied.size(); ++k)
-    if (!remove[k]) m.occupied.push_back(map.occupied[k]);
-  std::vector<size_t> fresh;  // Indices into m.occupied of completed records.
+    if (!remove[k]) m->occupied.push_back(map.occupied[k]);
+  std::vector<size_t> fresh;
   std::map<int, size_t> completed_labels;
   for (int i = 0; i < n_nodes; ++i) {
     const uint32_t v = node_voxel[size_t(i)];
     const int k = labels[size_t(i)];
     if (k == 0) {
-      g.set_state(v, is_removed[v] ? VoxelState::kFree : VoxelState::kUnknown);
+      g->set_state(v, is_removed[v] ? VoxelState::kFree : VoxelState::kUnknown);
       continue;
     }
-    g.set_state(v, VoxelState::kOccupied);
-    // Confidence: p(l_i | neighbours) under the final energy.
+    g->set_state(v, VoxelState::kOccupied);
     std::vector<double> e(static_cast<size_t>(L), 0.0);
     double e_min = 1e300;
     for (int l = 0; l < L; ++l) {
-      double s = unary[size_t(i) * L + size_t(l)];
+      double s = prob.unary[size_t(i) * L + size_t(l)];
       for (int f = 0; f < 6; ++f) {
-        const int32_t j = nb[size_t(i)][size_t(f)];
-        if (j >= 0) s += V(l, labels[size_t(j)]);
+        const int32_t j = prob.nb[size_t(i)][size_t(f)];
+        if (j >= 0) s += prob.V(l, labels[size_t(j)], options);
       }
       e[size_t(l)] = s, e_min = std::min(e_min, s);
     }
@@ -328,20 +344,24 @@ Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::v
     for (double s : e) z += std::exp(-(s - e_min));
     SemanticVoxelRecord r;
     r.voxel = v;
-    const auto c = g.Cell(v);
-    r.centre = g.CellCenter(c[0], c[1], c[2]).cast<float>();
-    r.label = uint16_t(label_value[size_t(k)]);
+    const auto c = g->Cell(v);
+    r.centre = g->CellCenter(c[0], c[1], c[2]).cast<float>();
+    r.label = uint16_t(prob.label_value[size_t(k)]);
     r.confidence = float(std::exp(-(e[size_t(k)] - e_min)) / z);
     r.completed = 1;
-    fresh.push_back(m.occupied.size());
-    m.occupied.push_back(r);
+    fresh.push_back(m->occupied.size());
+    m->occupied.push_back(r);
     ++completed_labels[r.label];
   }
-  out.completed_voxels = fresh.size();
-  out.completed_labels.assign(completed_labels.begin(), completed_labels.end());
+  completed_labels_out->assign(completed_labels.begin(), completed_labels.end());
+  return fresh;
+}
 
-  // Colours (and rooms) of the completed voxels from their coloured 26-neighbours of the same label.
-  std::vector<int32_t> rec(nvox, -1);
+// Phase 6: colours (and rooms) of the completed records from their coloured 26-neighbours of the same
+// label, grown outwards; records connected to none take their label's mean colour (or its NYU40 colour).
+void ColourCompleted(const VoxelGrid& g, const std::vector<size_t>& fresh, SemanticMap* map) {
+  SemanticMap& m = *map;
+  std::vector<int32_t> rec(g.size(), -1);
   for (size_t k = 0; k < m.occupied.size(); ++k) rec[m.occupied[k].voxel] = int32_t(k);
   std::vector<uint8_t> coloured(m.occupied.size(), 1);
   for (size_t k : fresh) coloured[k] = 0;
@@ -376,25 +396,55 @@ Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::v
     for (const Paint& p : paint) m.occupied[p.k].rgb = p.rgb, m.occupied[p.k].room = p.room, coloured[p.k] = 1;
     pending.swap(still);
   }
-  if (!pending.empty()) {  // Not connected to a coloured voxel of their label: the label's mean colour.
-    std::map<int, std::array<double, 4>> mean;
-    for (size_t k = 0; k < m.occupied.size(); ++k)
-      if (coloured[k]) {
-        auto& a = mean[m.occupied[k].label];
-        for (int ch = 0; ch < 3; ++ch) a[size_t(ch)] += m.occupied[k].rgb[size_t(ch)];
-        a[3] += 1;
-      }
-    for (size_t k : pending) {
-      auto& r = m.occupied[k];
-      auto it = mean.find(r.label);
-      if (it != mean.end() && it->second[3] > 0) {
-        for (int ch = 0; ch < 3; ++ch) r.rgb[size_t(ch)] = uint8_t(std::lround(it->second[size_t(ch)] / it->second[3]));
-      } else if (r.label < kNumNyu40) {
-        const Rgb8 col = Nyu40Labels()[r.label].color;
-        r.rgb = {col.r, col.g, col.b};
-      }
+  if (pending.empty()) return;
+  // Not connected to a coloured voxel of their label: the label's mean colour.
+  std::map<int, std::array<double, 4>> mean;
+  for (size_t k = 0; k < m.occupied.size(); ++k)
+    if (coloured[k]) {
+      auto& a = mean[m.occupied[k].label];
+      for (int ch = 0; ch < 3; ++ch) a[size_t(ch)] += m.occupied[k].rgb[size_t(ch)];
+      a[3] += 1;
+    }
+  for (size_t k : pending) {
+    auto& r = m.occupied[k];
+    auto it = mean.find(r.label);
+    if (it != mean.end() && it->second[3] > 0) {
+      for (int ch = 0; ch < 3; ++ch) r.rgb[size_t(ch)] = uint8_t(std::lround(it->second[size_t(ch)] / it->second[3]));
+    } else if (r.label < kNumNyu40) {
+      const Rgb8 col = Nyu40Labels()[r.label].color;
+      r.rgb = {col.r, col.g, col.b};
     }
   }
+}
+
+}  // namespace
+
+Status RemoveObjects(const VoxelGrid& grid, const SemanticMap& map, const std::vector<uint8_t>& remove,
+                     const ObjectRemovalOptions& options, ObjectRemovalResult* result) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string err;
+  if (!options.Check(&err)) return Status::InvalidInput("object removal options: " + err);
+  if (remove.size() != map.occupied.size()) return Status::Internal("RemoveObjects: one flag per record expected");
+  ObjectRemovalResult& out = *result;
+  out = ObjectRemovalResult{};
+  VoxelGrid g = grid;
+  const AfterRemoval after = ClearRemoved(map, remove, &g);
+  out.removed_voxels = after.removed.size();
+  const int band = int(std::floor(options.completion_band_m / g.resolution() + 1e-9));
+  const std::vector<uint32_t> node_voxel = CompletionNodes(g, after.removed, band);
+  out.nodes = node_voxel.size();
+  out.unknown_nodes = node_voxel.size() - after.removed.size();
+  std::vector<int32_t> node_of_voxel;
+  const std::vector<uint16_t> plane_label =
+      PlaneLabelsOfNodes(g, after.label_of, node_voxel, options, &node_of_voxel, &out.planes, &out.planes_used);
+  CompletionProblem prob;
+  std::vector<int> labels;
+  SEMVOX_RETURN_IF_ERROR(SolveCompletion(g, after.label_of, node_voxel, node_of_voxel, plane_label, options, &prob, &labels, &out));
+  const std::vector<size_t> fresh =
+      ApplyCompletion(map, remove, after.removed, node_voxel, prob, labels, options, &g, &out.map, &out.completed_labels);
+  out.completed_voxels = fresh.size();
+  ColourCompleted(g, fresh, &out.map);
+  SemanticMap& m = out.map;
   std::sort(m.occupied.begin(), m.occupied.end(), [](const SemanticVoxelRecord& a, const SemanticVoxelRecord& b) { return a.voxel < b.voxel; });
   m.node_occupied.clear();
   out.grid = std::move(g);

@@ -35,6 +35,11 @@
 // Completed voxels take the colour of the adjacent visible voxels of the same label (layer by layer: the mean
 // colour of their already coloured 26-neighbours of that label), else the label's mean colour in the map.
 // Removed voxels labelled empty become free (the object is gone); unknown nodes labelled empty stay unknown.
+//
+// RemoveObjects runs six named phases (object_removal.cc): ClearRemoved (the records leave the grid),
+// CompletionNodes (the band BFS), PlaneLabelsOfNodes (normals, planes, hull labels), SolveCompletion (the
+// energy above and alpha-expansion), ApplyCompletion (states, completed records, confidences) and
+// ColourCompleted.
 #pragma once
 #include <Eigen/Geometry>
 #include <cstdint>
