@@ -113,8 +113,9 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       next_edge += 2;
     }
   }
-  // The move's pairwise edges are built in kEdgeChunks fixed ranges, in parallel when the graph allows
-  // concurrent SetEdgeCapacities on distinct edges and the problem is large enough to pay for it.
+  // The move's pairwise edges are built in kEdgeChunks fixed ranges in parallel when the graph allows
+  // concurrent SetEdgeCapacities on distinct edges and the problem is large enough to pay for it; otherwise
+  // in one pass over all edges.
   constexpr int kEdgeChunks = 2;
   bool concurrent_edges = false;
   if constexpr (requires { graph.PrepareConcurrentEdgeUpdates(); }) {
@@ -123,7 +124,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       concurrent_edges = true;
     }
   }
-  std::vector<std::vector<double>> chunk_delta(kEdgeChunks - 1, std::vector<double>(size_t(N)));
+  std::vector<std::vector<double>> chunk_delta(concurrent_edges ? kEdgeChunks - 1 : 0, std::vector<double>(size_t(N)));
   const NodeIncidence edge_incidence = energy.EdgeIncidence();
   const NodeIncidence clique_incidence = energy.CliqueIncidence();
 
@@ -308,27 +309,26 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
           *constant_out = pairwise_constant;
           *truncated_out = range_truncated;
         };
-        std::array<double, kEdgeChunks> chunk_constant{};
-        std::array<int64_t, kEdgeChunks> chunk_truncated{};
-        auto run_chunk = [&](int k) {
-          const int e_begin = int(int64_t(num_pairwise) * k / kEdgeChunks), e_end = int(int64_t(num_pairwise) * (k + 1) / kEdgeChunks);
-          double* d = k == 0 ? delta.data() : chunk_delta[size_t(k - 1)].data();
-          if (k > 0) std::fill(chunk_delta[size_t(k - 1)].begin(), chunk_delta[size_t(k - 1)].end(), 0.0);
-          edge_range(e_begin, e_end, d, &chunk_constant[size_t(k)], &chunk_truncated[size_t(k)]);
-        };
-        if (concurrent_edges) {
-          tbb::parallel_for(0, kEdgeChunks, run_chunk);
-        } else {
-          for (int k = 0; k < kEdgeChunks; ++k) run_chunk(k);
-        }
         double pairwise_constant = 0;
-        for (int k = 0; k < kEdgeChunks; ++k) {
-          pairwise_constant += chunk_constant[size_t(k)];
-          truncated += chunk_truncated[size_t(k)];
-        }
-        for (int k = 1; k < kEdgeChunks; ++k) {
-          const double* src = chunk_delta[size_t(k - 1)].data();
-          for (int i = 0; i < N; ++i) delta[i] += src[i];
+        if (concurrent_edges) {
+          std::array<double, kEdgeChunks> chunk_constant{};
+          std::array<int64_t, kEdgeChunks> chunk_truncated{};
+          tbb::parallel_for(0, kEdgeChunks, [&](int k) {
+            const int e_begin = int(int64_t(num_pairwise) * k / kEdgeChunks), e_end = int(int64_t(num_pairwise) * (k + 1) / kEdgeChunks);
+            double* d = k == 0 ? delta.data() : chunk_delta[size_t(k - 1)].data();
+            if (k > 0) std::fill(chunk_delta[size_t(k - 1)].begin(), chunk_delta[size_t(k - 1)].end(), 0.0);
+            edge_range(e_begin, e_end, d, &chunk_constant[size_t(k)], &chunk_truncated[size_t(k)]);
+          });
+          for (int k = 0; k < kEdgeChunks; ++k) {
+            pairwise_constant += chunk_constant[size_t(k)];
+            truncated += chunk_truncated[size_t(k)];
+          }
+          for (int k = 1; k < kEdgeChunks; ++k) {
+            const double* src = chunk_delta[size_t(k - 1)].data();
+            for (int i = 0; i < N; ++i) delta[i] += src[i];
+          }
+        } else {
+          edge_range(0, num_pairwise, delta.data(), &pairwise_constant, &truncated);
         }
         double* const d = delta.data();
         // Clique arcs, after the edges (serial).

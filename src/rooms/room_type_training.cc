@@ -209,16 +209,24 @@ std::vector<Dist> CombinedObjectStatistics(const ObjectRoomCounts& generator, co
   return table;
 }
 
+namespace {
+
+// Adds the object counts of generated apartment `seed` (default options) to `counts`.
+Status AddGeneratedApartmentObjects(uint64_t seed, ObjectRoomCounts* counts) {
+  ApartmentOptions ao;
+  ao.seed = seed;
+  Result<Apartment> a = GenerateApartment(ao);
+  if (!a.ok()) return a.status();
+  counts->Add(CountApartmentObjects(*a));
+  return Status::Ok();
+}
+
+}  // namespace
+
 Status RefreshR2vFixtureStatistics(const std::vector<uint64_t>& statistics_seeds, const std::string& r2v_dir, int r2v_plans,
                                    RoomTypeModel* model, int* plans_used) {
   ObjectRoomCounts gen;
-  for (uint64_t seed : statistics_seeds) {
-    ApartmentOptions ao;
-    ao.seed = seed;
-    Result<Apartment> a = GenerateApartment(ao);
-    if (!a.ok()) return a.status();
-    gen.Add(CountApartmentObjects(*a));
-  }
+  for (uint64_t seed : statistics_seeds) SEMVOX_RETURN_IF_ERROR(AddGeneratedApartmentObjects(seed, &gen));
   Result<ObjectRoomCounts> r2v = CountR2vFixtures(r2v_dir, r2v_plans, plans_used);
   if (!r2v.ok()) return r2v.status();
   const std::vector<Dist> table = CombinedObjectStatistics(gen, &*r2v);
@@ -369,11 +377,7 @@ Result<RoomTypeModel> TrainRoomTypeModel(const std::vector<RoomViewRecord>& reco
   ObjectRoomCounts gen;
   std::vector<RoomTypeTrainingScene> truth_scenes;
   for (uint64_t seed : statistics_seeds) {
-    ApartmentOptions ao;
-    ao.seed = seed;
-    Result<Apartment> a = GenerateApartment(ao);
-    if (!a.ok()) return a.status();
-    gen.Add(CountApartmentObjects(*a));
+    SEMVOX_RETURN_IF_ERROR(AddGeneratedApartmentObjects(seed, &gen));
     Result<RoomTypeTrainingScene> s = RoomTypeSceneFromApartment(seed);
     if (!s.ok()) return s.status();
     truth_scenes.push_back(std::move(s).value());
