@@ -1,6 +1,7 @@
 #include "perception/belief_propagation.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -230,6 +231,19 @@ Status LoopyBeliefPropagation(const PairwiseModel& model, const LoopyBpOptions& 
       }
     }
   };
+  // Potts edges (one log potential on the diagonal, one off it, as the view CRFs build them) take the
+  // O(m) message sum_a exp(t_a + P(a, b)) = exp(off) (S - u_b) + exp(diag) u_b with u_a = exp(t_a), S = sum u;
+  // other edges the general O(m^2) sum.
+  std::vector<std::array<double, 2>> potts(num_edges, {0.0, 0.0});  // exp(diag), exp(off); {0, 0}: not Potts.
+  for (size_t e = 0; e < num_edges; ++e) {
+    const std::vector<double>& lp = model.edges[e].log_pairwise;
+    const double diag = lp[0], off = m > 1 ? lp[1] : lp[0];
+    bool is_potts = true;
+    for (int a = 0; a < m && is_potts; ++a)
+      for (int b = 0; b < m && is_potts; ++b) is_potts = lp[size_t(a) * m + size_t(b)] == (a == b ? diag : off);
+    if (is_potts && std::exp(diag) > 0 && std::exp(off) > 0) potts[e] = {std::exp(diag), std::exp(off)};
+  }
+  std::vector<double> u(static_cast<size_t>(m));
   LoopyBpSummary local;
   for (int it = 0; it < options.max_iterations; ++it) {
     compute_beliefs(msg);
@@ -240,12 +254,28 @@ Status LoopyBeliefPropagation(const PairwiseModel& model, const LoopyBpOptions& 
         const int from = dir == 0 ? ed.i : ed.j;
         const size_t reverse = (2 * e + (1 - dir)) * m;  // Message into `from` along this edge.
         double* out = &next[(2 * e + dir) * m];
-        for (int b = 0; b < m; ++b) {
-          for (int a = 0; a < m; ++a)
-            term[size_t(a)] = belief[size_t(from) * m + a] - msg[reverse + a] + EdgeLog(ed, from, a, b, m);
-          out[b] = LogSumExp(term);
+        double z;
+        double mx = kNegInf;
+        if (potts[e][0] > 0)
+          for (int a = 0; a < m; ++a) {
+            term[size_t(a)] = belief[size_t(from) * m + a] - msg[reverse + a];
+            mx = std::max(mx, term[size_t(a)]);
+          }
+        if (potts[e][0] > 0 && std::isfinite(mx)) {
+          double sum = 0;
+          for (int a = 0; a < m; ++a) sum += u[size_t(a)] = std::exp(term[size_t(a)] - mx);
+          const double same = potts[e][0], other = potts[e][1];
+          for (int b = 0; b < m; ++b) out[b] = mx + std::log(other * (sum - u[size_t(b)]) + same * u[size_t(b)]);
+          // sum_b of the messages' exponentials, without m more exps.
+          z = mx + std::log(sum * (other * double(m - 1) + same));
+        } else {
+          for (int b = 0; b < m; ++b) {
+            for (int a = 0; a < m; ++a)
+              term[size_t(a)] = belief[size_t(from) * m + a] - msg[reverse + a] + EdgeLog(ed, from, a, b, m);
+            out[b] = LogSumExp(term);
+          }
+          z = LogSumExp({out, size_t(m)});
         }
-        const double z = LogSumExp({out, size_t(m)});
         for (int b = 0; b < m; ++b) {
           double v = out[b] - z;
           const double old = msg[(2 * e + dir) * m + b];

@@ -175,6 +175,50 @@ TEST(LoopyBeliefPropagation, ConvergesToNormalisedBeliefsOnAGridWithLoops) {
   EXPECT_FALSE(TreeSumProduct(model, &tree).ok());  // The grid has loops.
 }
 
+TEST(LoopyBeliefPropagation, PottsEdgesAgreeWithTheGeneralMessage) {
+  // Potts edges (as the view CRFs build them) take an O(m) message; the same model with one entry of every
+  // edge moved by 1e-13 is not Potts and takes the general O(m^2) sum. Attractive and repulsive edges,
+  // a loopy grid of 22 labels (the second level's count).
+  std::mt19937 rng(46);
+  std::uniform_real_distribution<double> u(-2, 2), w(-1.5, 1.0);
+  const int side = 7, m = 22;
+  PairwiseModel potts;
+  potts.num_labels = m;
+  potts.log_unary.resize(size_t(side * side * m));
+  for (double& v : potts.log_unary) v = u(rng);
+  auto edge = [&](int i, int j) {
+    const double diag = w(rng), off = w(rng) * 0.3;
+    PairwiseModel::Edge e{i, j, std::vector<double>(size_t(m * m), off)};
+    for (int a = 0; a < m; ++a) e.log_pairwise[size_t(a * m + a)] = diag;
+    return e;
+  };
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      if (x + 1 < side) potts.edges.push_back(edge(y * side + x, y * side + x + 1));
+      if (y + 1 < side) potts.edges.push_back(edge(y * side + x, (y + 1) * side + x));
+    }
+  PairwiseModel general = potts;
+  for (auto& e : general.edges) e.log_pairwise[1] += 1e-13;
+  LoopyBpOptions options;
+  options.damping = 0.5;
+  options.max_iterations = 60;
+  Marginals a, b;
+  LoopyBpSummary sa, sb;
+  ASSERT_TRUE(LoopyBeliefPropagation(potts, options, &a, &sa).ok());
+  ASSERT_TRUE(LoopyBeliefPropagation(general, options, &b, &sb).ok());
+  EXPECT_EQ(sa.iterations, sb.iterations);
+  ASSERT_EQ(a.p.size(), b.p.size());
+  for (size_t k = 0; k < a.p.size(); ++k) EXPECT_NEAR(a.p[k], b.p[k], 1e-9) << k;
+  // On a tree (a path through the grid) the Potts messages give the exact marginals.
+  PairwiseModel path = potts;
+  path.edges.clear();
+  for (int v = 0; v + 1 < side * side; ++v) path.edges.push_back(edge(v, v + 1));
+  Marginals exact, loopy;
+  ASSERT_TRUE(TreeSumProduct(path, &exact).ok());
+  ASSERT_TRUE(LoopyBeliefPropagation(path, LoopyBpOptions{}, &loopy).ok());
+  for (size_t k = 0; k < exact.p.size(); ++k) EXPECT_NEAR(loopy.p[k], exact.p[k], 1e-9) << k;
+}
+
 TEST(LoopyBeliefPropagation, RejectsBadOptions) {
   PairwiseModel model;
   model.num_labels = 2;
