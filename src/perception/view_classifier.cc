@@ -100,8 +100,9 @@ Result<ViewClassification> ViewClassifier::Classify(Superpixels superpixels, Vie
   out.knn_labels.resize(n);
   for (size_t s = 0; s < n; ++s) {
     const SuperpixelObservation& o = out.observations.superpixels[s];
-    f1[s] = image_knn_.Probabilities({o.z.data(), size_t(kImageObservationDims)});
-    f2[s] = o.has_depth ? full_knn_.Probabilities({o.z.data(), size_t(kObservationDims)}) : f1[s];
+    // f1 (image features only) is read for superpixels without depth alone: the CRFs take f2 where there is depth.
+    if (o.has_depth) f2[s] = full_knn_.Probabilities({o.z.data(), size_t(kObservationDims)});
+    else f1[s] = f2[s] = image_knn_.Probabilities({o.z.data(), size_t(kImageObservationDims)});
     out.knn[s] = o.has_depth ? f2[s] : f1[s];
     out.knn_labels[s] = int(std::max_element(out.knn[s].begin(), out.knn[s].end()) - out.knn[s].begin());
   }
@@ -161,8 +162,9 @@ Status ViewClassifier::CrfTrainingGraphs(const Superpixels& superpixels, const V
   std::vector<std::vector<double>> f1(n), f2(n), f(n);
   for (size_t s = 0; s < n; ++s) {
     const SuperpixelObservation& o = observations.superpixels[s];
-    f1[s] = image_knn_.Probabilities({o.z.data(), size_t(kImageObservationDims)});
-    f2[s] = o.has_depth ? full_knn_.Probabilities({o.z.data(), size_t(kObservationDims)}) : f1[s];
+    // f1 (image features only) is read for superpixels without depth alone: the CRFs take f2 where there is depth.
+    if (o.has_depth) f2[s] = full_knn_.Probabilities({o.z.data(), size_t(kObservationDims)});
+    else f1[s] = f2[s] = image_knn_.Probabilities({o.z.data(), size_t(kImageObservationDims)});
     f[s] = f2[s];
   }
   const std::vector<int> labels = SuperpixelClasses(superpixels, pixel_classes, options_.min_label_purity);
