@@ -128,6 +128,9 @@ struct TrainArgs {
   bool segments_only = false;               // Train only the object-segment classifier.
   bool room_shapes_only = false;            // Train only the room-shape model (real R2V plans).
   bool room_type_statistics_only = false;   // Recompute the R2V fixture statistics of OUTDIR/room_type_crf.json.
+  bool room_type_knn_only = false;          // Rebuild OUTDIR/room_type_knn.bin from generated apartments + R2V plans.
+  int room_type_plans = 300;                // ... from the first this many sorted R2V plans (<= 300, the training split).
+  std::string room_type_knn_classes = "truth";  // ... descriptors of the views' true or predicted (OUTDIR/second.*) classes.
   std::string r2v_dir;                      // R2V plans (empty: ../shared/data/r2v from the working directory).
   std::string segment_seeds = "0-99";       // Generator seeds the object-segment classifier learns on (randomised scans).
   std::string voxel_crf_seeds = "0-7";      // Generator seeds the Voxel-CRF weights are learned on.
@@ -158,6 +161,10 @@ Status RunTrainRoomShapes(const TrainArgs& args);
 // toilet, bathtub given the room type) recomputed from the training seeds' apartments and R2V plans 0-299;
 // its learned terms stay.
 Status RunTrainRoomTypeStatistics(const TrainArgs& args);
+// `semvox train --room-type-knn`: OUTDIR/room_type_knn.bin, the per-view room-type k-NN, from the ground-truth
+// classes of the training views of the --train-seeds apartments (as `semvox train` builds it) and of apartments
+// built on the first --room-type-plans sorted R2V plans (real layouts, furnished by room type).
+Status RunTrainRoomTypeKnn(const TrainArgs& args);
 // "A-B" or "A,B,..." -> seeds.
 Status ParseSeedList(const std::string& text, const char* flag, std::vector<uint64_t>* seeds);
 

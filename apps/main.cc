@@ -102,6 +102,16 @@ int main(int argc, char** argv) {
   train_cmd->add_flag("--room-type-statistics", train.room_type_statistics_only,
                       "recompute only the R2V fixture statistics of room_type_crf.json (training seeds + R2V plans 0-299); "
                       "its learned terms stay");
+  train_cmd->add_flag("--room-type-knn", train.room_type_knn_only,
+                      "rebuild only the per-view room-type k-NN (room_type_knn.bin) from the training seeds' views and "
+                      "apartments built on R2V plans 0-299 (--room-type-plans)");
+  train_cmd->add_option("--room-type-plans", train.room_type_plans,
+                        "R2V training plans (the first N sorted, at most 300) whose apartments add rows to the room-type k-NN")
+      ->check(CLI::Range(0, 300));
+  train_cmd->add_option("--room-type-knn-classes", train.room_type_knn_classes,
+                        "--room-type-knn rows from the true classes of each view (truth, as `semvox train`) or from those the "
+                        "per-view classifier OUTDIR/second.* predicts (predicted, as at run time)")
+      ->check(CLI::IsMember({"truth", "predicted"}));
   train_cmd->add_option("--r2v-dir", train.r2v_dir, "R2V plans (plan_*.txt) for --room-shapes and the room-type statistics "
                         "(default ../shared/data/r2v, relative to the working directory)");
   train_cmd->add_option("--segment-seeds", train.segment_seeds, "generator seeds for the object-segment classifier, e.g. 0-99");
@@ -202,6 +212,7 @@ int main(int argc, char** argv) {
                     : train.segments_only ? semvox::RunTrainSegments(train)
                     : train.room_shapes_only ? semvox::RunTrainRoomShapes(train)
                     : train.room_type_statistics_only ? semvox::RunTrainRoomTypeStatistics(train)
+                    : train.room_type_knn_only ? semvox::RunTrainRoomTypeKnn(train)
                                           : semvox::RunTrain(train));
     if (*report_cmd) return Report(semvox::RunReport(report));
     if (*remove_cmd) return Report(semvox::RunRemove(remove_args));

@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <regex>
 
 #include "apps/commands.h"
@@ -176,6 +177,41 @@ Status RunTrainRoomTypeStatistics(const TrainArgs& args) {
   SEMVOX_RETURN_IF_ERROR(SaveRoomTypeModel(*model, path));
   std::printf("%s: R2V fixture statistics from %zu generated apartments and %d R2V plans (of the first %d)\n", path.c_str(), seeds.size(),
               plans, kR2vTrainingPlans);
+  return Status::Ok();
+}
+
+Status RunTrainRoomTypeKnn(const TrainArgs& args) {
+  std::vector<uint64_t> seeds;
+  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.train_seeds, "--train-seeds", &seeds));
+  const std::string dir = R2vDirectory(args);
+  std::vector<std::string> plans;
+  if (args.room_type_plans > 0) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec))
+      return Status::InvalidInput(FileError(dir, "no such directory (the R2V plans)", "pass --r2v-dir DIR, or --room-type-plans 0"));
+    plans = ListR2vPlans(dir);
+    plans.resize(std::min(plans.size(), size_t(std::min(args.room_type_plans, kR2vTrainingPlans))));
+  }
+  std::optional<ViewClassifier> classifier;
+  if (args.room_type_knn_classes == "predicted") {
+    Result<ViewClassifier> c = ViewClassifier::Load(args.outdir + "/second", ViewClassifierOptions{});
+    if (!c.ok()) return c.status();
+    classifier = std::move(c).value();
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  Result<RoomKnnRows> rows = RoomTypeKnnRows(seeds, plans, classifier ? &*classifier : nullptr);
+  if (!rows.ok()) return rows.status();
+  Result<KnnClassifier> knn = KnnClassifier::Train(rows->x, RoomDescriptorDims(SecondLevel().num_classes()), rows->y,
+                                                   kNumRoomTypeClasses, KnnOptions{});
+  if (!knn.ok()) return Status::InvalidInput("room-type k-NN: " + knn.status().message());
+  std::error_code ec;
+  std::filesystem::create_directories(args.outdir, ec);
+  if (ec) return Status::InvalidInput(FileError(args.outdir, "cannot create the output directory", ec.message()));
+  const std::string path = args.outdir + "/room_type_knn.bin";
+  SEMVOX_RETURN_IF_ERROR(knn->Save(path));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%s: %zu rows (%d from %zu generated apartments, %d from %d R2V plans, %d plans skipped) in %.1f s\n", path.c_str(),
+              rows->y.size(), rows->generated_rows, seeds.size(), rows->plan_rows, rows->plans_used, rows->plans_skipped, seconds);
   return Status::Ok();
 }
 

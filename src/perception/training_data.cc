@@ -1,5 +1,6 @@
 #include "perception/training_data.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/labels.h"
@@ -185,6 +186,39 @@ Result<Scene> MakeTrainingScan(const Apartment& apartment, uint64_t seed, const 
   return scene;
 }
 
+namespace {
+
+// Where a room is seen from: its box middle when that is on its floor, else the point of its floor nearest
+// the middle with 0.3 m of floor around it (or its floor point nearest the middle).
+Eigen::Vector2d RoomViewpoint(const Apartment& apartment, const RoomGt& room) {
+  const Eigen::Vector2d middle(0.5 * (room.x0 + room.x1), 0.5 * (room.y0 + room.y1));
+  const ImageU16& r = apartment.room_raster;
+  if (r.data.empty() || RoomIdAt(apartment, middle.x(), middle.y()) == room.id) return middle;
+  const double res = apartment.room_raster_m;
+  const int margin = std::max(1, int(std::lround(0.3 / res)));
+  // Rows of the room's pixels with `margin` of room around them (a square): a box sum over the room mask.
+  std::vector<int> sum(size_t(r.width + 1) * size_t(r.height + 1), 0);
+  auto S = [&](int c, int row) -> int& { return sum[size_t(row) * size_t(r.width + 1) + size_t(c)]; };
+  for (int row = 0; row < r.height; ++row)
+    for (int c = 0; c < r.width; ++c) S(c + 1, row + 1) = (r.at(c, row) == room.id) + S(c, row + 1) + S(c + 1, row) - S(c, row);
+  double best_deep = 1e300, best_any = 1e300;
+  Eigen::Vector2d deep = middle, any = middle;
+  for (int row = 0; row < r.height; ++row)
+    for (int c = 0; c < r.width; ++c) {
+      if (r.at(c, row) != room.id) continue;
+      const Eigen::Vector2d p = apartment.room_raster_origin + res * Eigen::Vector2d(c + 0.5, row + 0.5);
+      const double d = (p - middle).squaredNorm();
+      if (d < best_any) best_any = d, any = p;
+      const int c0 = c - margin, r0 = row - margin, c1 = c + margin + 1, r1 = row + margin + 1;
+      if (c0 < 0 || r0 < 0 || c1 > r.width || r1 > r.height) continue;
+      const int n = S(c1, r1) - S(c0, r1) - S(c1, r0) + S(c0, r0);
+      if (n == (2 * margin + 1) * (2 * margin + 1) && d < best_deep) best_deep = d, deep = p;
+    }
+  return best_deep < 1e300 ? deep : any;
+}
+
+}  // namespace
+
 Status ForEachApartmentView(uint64_t seed, const TrainingViewsOptions& options,
                             const std::function<Status(const LabelledView&)>& sink) {
   std::string error;
@@ -194,6 +228,14 @@ Status ForEachApartmentView(uint64_t seed, const TrainingViewsOptions& options,
   apartment_options.shape_variety = options.style == TrainingStyle::kRandomised;
   Result<Apartment> apartment = GenerateApartment(apartment_options);
   if (!apartment.ok()) return apartment.status();
+  return ForEachViewOfApartment(*apartment, seed, options, sink);
+}
+
+Status ForEachViewOfApartment(const Apartment& apartment_ref, uint64_t seed, const TrainingViewsOptions& options,
+                              const std::function<Status(const LabelledView&)>& sink) {
+  std::string error;
+  if (!options.Check(&error)) return Status::InvalidInput("training views: " + error);
+  const Apartment* apartment = &apartment_ref;
   const bool randomised = options.style == TrainingStyle::kRandomised;
   Result<Scene> scan = MakeTrainingScan(*apartment, seed, options);
   if (!scan.ok()) return scan.status();
@@ -220,7 +262,8 @@ Status ForEachApartmentView(uint64_t seed, const TrainingViewsOptions& options,
   Image<int32_t> nyu40, surface;
   for (const RoomGt& room : apartment->rooms) {
     for (int h = 0; h < options.yaws_per_room; ++h) {
-      Eigen::Vector3d eye(0.5 * (room.x0 + room.x1), 0.5 * (room.y0 + room.y1), apartment->floor_z_m + options.eye_height_m);
+      const Eigen::Vector2d middle = RoomViewpoint(*apartment, room);
+      Eigen::Vector3d eye(middle.x(), middle.y(), apartment->floor_z_m + options.eye_height_m);
       double yaw = 360.0 * h / options.yaws_per_room, pitch = options.pitch_deg;
       if (randomised) {
         eye.x() += options.position_jitter * 0.5 * (room.x1 - room.x0) * rng.Uniform(-1, 1);

@@ -87,5 +87,10 @@ Result<Scene> MakeTrainingScan(const Apartment& apartment, uint64_t seed, const 
 // error `sink` returns.
 Status ForEachApartmentView(uint64_t seed, const TrainingViewsOptions& options,
                             const std::function<Status(const LabelledView&)>& sink);
+// The same for a given apartment (one built on a real plan, say); `seed` draws the scan and the views and is
+// the views' `seed`. A room whose box middle is not on its own floor (an L-shaped room of a plan) is seen from
+// the point of its floor nearest that middle at least 0.3 m from its edge (else its floor point nearest it).
+Status ForEachViewOfApartment(const Apartment& apartment, uint64_t seed, const TrainingViewsOptions& options,
+                              const std::function<Status(const LabelledView&)>& sink);
 
 }  // namespace semvox

@@ -1,6 +1,7 @@
 #include "rooms/room_type_training.h"
 
 #include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include "core/file_util.h"
 #include "core/labels.h"
 #include "perception/room_evidence.h"
+#include "rooms/r2v_layout.h"
 #include "rooms/r2v_plan.h"
 #include "scenegen/apartment_io.h"
 
@@ -119,6 +121,63 @@ ObjectRoomCounts CountApartmentObjects(const Apartment& a) {
       if (seen[size_t(k)]) c.with_object[size_t(k)][size_t(r.type_id - 1)] += 1;
   }
   return c;
+}
+
+Result<RoomKnnRows> RoomTypeKnnRows(const std::vector<uint64_t>& seeds, const std::vector<std::string>& plans,
+                                    const ViewClassifier* classifier) {
+  const LabelLevel level = SecondLevel();
+  const TrainingViewsOptions views;
+  struct Unit {
+    std::vector<float> x;
+    std::vector<int> y;
+    Status status = Status::Ok();
+    bool skipped = false;
+  };
+  std::vector<Unit> units(seeds.size() + plans.size());
+  auto add = [&](Unit* u) {
+    return [&level, classifier, u](const LabelledView& v) {
+      if (v.room_type < 1 || v.room_type > kNumRoomTypeClasses) return Status::Ok();
+      Image<int32_t> classes;
+      if (classifier) {
+        Result<ViewClassification> c = classifier->Classify(*v.view);
+        if (!c.ok()) return c.status();
+        classes = PixelLabels(c->superpixels, c->union_labels);
+      } else {
+        classes = level.Map(*v.nyu40);
+      }
+      const std::vector<float> d = RoomViewDescriptor(*v.view, classes, level.num_classes());
+      u->x.insert(u->x.end(), d.begin(), d.end());
+      u->y.push_back(v.room_type - 1);
+      return Status::Ok();
+    };
+  };
+  tbb::parallel_for(size_t(0), units.size(), [&](size_t i) {
+    Unit& u = units[i];
+    if (i < seeds.size()) {
+      u.status = ForEachApartmentView(seeds[i], views, add(&u));
+      return;
+    }
+    const size_t k = i - seeds.size();
+    int unclosed = 0;
+    Result<PlanLayout> layout = LayoutOfR2vPlan(plans[k], &unclosed);
+    PlanApartmentOptions options;
+    options.seed = kPlanViewSeedBase + k;
+    Result<Apartment> apartment = layout.ok() ? ApartmentFromLayout(*layout, options) : Result<Apartment>(layout.status());
+    if (!apartment.ok()) {
+      u.skipped = true;
+      return;
+    }
+    u.status = ForEachViewOfApartment(*apartment, options.seed, views, add(&u));
+  });
+  RoomKnnRows rows;
+  for (size_t i = 0; i < units.size(); ++i) {
+    SEMVOX_RETURN_IF_ERROR(units[i].status);
+    rows.x.insert(rows.x.end(), units[i].x.begin(), units[i].x.end());
+    rows.y.insert(rows.y.end(), units[i].y.begin(), units[i].y.end());
+    (i < seeds.size() ? rows.generated_rows : rows.plan_rows) += int(units[i].y.size());
+    if (i >= seeds.size()) ++(units[i].skipped ? rows.plans_skipped : rows.plans_used);
+  }
+  return rows;
 }
 
 Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int max_plans, int* plans_used) {

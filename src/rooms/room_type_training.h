@@ -57,6 +57,24 @@ const std::vector<int>& R2vFixtureLabels();
 std::vector<std::array<double, kRoomTypeLabels>> CombinedObjectStatistics(const ObjectRoomCounts& generator,
                                                                         const ObjectRoomCounts* r2v);
 
+// Rows of the per-view room-type k-NN (perception/room_evidence.h): the descriptor of the ground-truth
+// second-level classes of every training view of a typed room (TrainingViewsOptions{}: flat, as `semvox train`
+// builds them), first of the generated apartments `seeds`, then of apartments built on the R2V plans `plans`
+// (real layouts with their fixtures, furnished by room type; plan k, in the given order, draws its colours and
+// views from kPlanViewSeedBase + k). A plan that cannot be built (no doors, no closed room) is skipped and
+// counted. Both cores; the rows come in seed, then plan, then view order whatever the threads.
+inline constexpr uint64_t kPlanViewSeedBase = 1000000;
+struct RoomKnnRows {
+  std::vector<float> x;  // RoomDescriptorDims(second level) per row.
+  std::vector<int> y;    // Room type id - 1.
+  int generated_rows = 0, plan_rows = 0, plans_used = 0, plans_skipped = 0;
+};
+// With `classifier` (the second-level per-view classifier `semvox run` uses), the descriptors are those of its
+// predicted classes (union CRF labels, as the pipeline computes a view's room-type evidence), so that the k-NN
+// learns what the classifier makes of each room; without it, of the ground-truth classes.
+Result<RoomKnnRows> RoomTypeKnnRows(const std::vector<uint64_t>& seeds, const std::vector<std::string>& plans,
+                                    const ViewClassifier* classifier = nullptr);
+
 // One classified view: where it looked from, and the room-type descriptor of its predicted classes.
 struct RoomViewRecord {
   uint64_t seed = 0;

@@ -9,12 +9,18 @@
 //    confident neighbours within the segment;
 //  - the shipped model's R2V fixture statistics (counter, sink, toilet, bathtub) are those of the training
 //    seeds 0-39 and R2V plans 0-299 exactly (1e-12), and differ from a count that includes the validation
-//    plans 300-399 (skipped when ../shared/data/r2v is absent).
+//    plans 300-399 (skipped when ../shared/data/r2v is absent);
+//  - the room-type k-NN's rows of real plans: only typed rooms' views, a plan that is no plan skipped and
+//    counted, the same rows twice; the shipped room_type_knn.bin is exactly the k-NN of the true classes of
+//    seeds 0-39 (byte for byte).
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
 
+#include "perception/room_evidence.h"
 #include "rooms/r2v_plan.h"
 #include "rooms/room_type_crf.h"
 #include "rooms/room_type_training.h"
@@ -309,6 +315,56 @@ TEST(RoomTypeTraining, ShippedFixtureStatisticsCountNoValidationPlan) {
       leak = std::max(leak, std::abs(with_validation.object_type[size_t(k)][size_t(t)] - train_only.object_type[size_t(k)][size_t(t)]));
     }
   EXPECT_GT(leak, 1e-3);  // The validation plans would move the statistics: the check above can fail.
+}
+
+TEST(RoomTypeTraining, KnnRowsOfRealPlansAreTheirTypedRoomsViews) {
+  const std::string r2v = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/r2v";
+  if (!std::filesystem::exists(r2v + "/plan_0000.txt")) GTEST_SKIP() << "R2V plans not found in " << r2v;
+  std::vector<std::string> plans = ListR2vPlans(r2v);
+  ASSERT_GE(plans.size(), size_t(2));
+  plans.resize(2);
+  const std::string not_a_plan = testing::TempDir() + "/not_a_plan.txt";
+  { std::ofstream(not_a_plan) << "0 0 10 10 sofa\n"; }  // No walls, doors or rooms.
+  plans.push_back(not_a_plan);
+  Result<RoomKnnRows> rows = RoomTypeKnnRows({}, plans);
+  ASSERT_TRUE(rows.ok()) << rows.status().message();
+  EXPECT_EQ(rows->generated_rows, 0);
+  EXPECT_EQ(rows->plans_used, 2);
+  EXPECT_EQ(rows->plans_skipped, 1);
+  EXPECT_EQ(rows->plan_rows, int(rows->y.size()));
+  const size_t dims = size_t(RoomDescriptorDims(SecondLevel().num_classes()));
+  ASSERT_EQ(rows->x.size(), rows->y.size() * dims);
+  // Four headings per typed room at most; the types are room_types.tsv ids - 1.
+  EXPECT_GE(rows->y.size(), size_t(8));
+  for (int y : rows->y) {
+    EXPECT_GE(y, 0);
+    EXPECT_LT(y, kNumRoomTypeClasses);
+  }
+  // Deterministic whatever the threads.
+  Result<RoomKnnRows> again = RoomTypeKnnRows({}, plans);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->y, rows->y);
+  EXPECT_EQ(again->x, rows->x);
+}
+
+TEST(RoomTypeTraining, ShippedRoomKnnIsTheTrainingApartmentsTrueClasses) {
+  // `semvox train --room-type-knn --room-type-plans 0 --room-type-knn-classes truth` (what `semvox train`
+  // writes): the rows of seeds 0-39 only. Plan rows did not change the room types of the validation plans
+  // (docs/rooms.md), so the shipped k-NN has none.
+  std::vector<uint64_t> seeds(40);
+  for (size_t i = 0; i < seeds.size(); ++i) seeds[i] = i;
+  Result<RoomKnnRows> rows = RoomTypeKnnRows(seeds, {});
+  ASSERT_TRUE(rows.ok()) << rows.status().message();
+  EXPECT_EQ(rows->generated_rows, int(rows->y.size()));
+  Result<KnnClassifier> knn = KnnClassifier::Train(rows->x, RoomDescriptorDims(SecondLevel().num_classes()), rows->y, kNumRoomTypeClasses, KnnOptions{});
+  ASSERT_TRUE(knn.ok());
+  const std::string path = testing::TempDir() + "/room_type_knn.bin";
+  ASSERT_TRUE(knn->Save(path).ok());
+  auto bytes = [](const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  EXPECT_EQ(bytes(path), bytes(std::string(SEMVOX_SOURCE_DIR) + "/models/room_type_knn.bin"));
 }
 
 }  // namespace
