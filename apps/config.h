@@ -6,7 +6,9 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
+#include "core/option_table.h"
 #include "core/status.h"
 #include "io/load_scene.h"
 #include "mapping/occupancy_map.h"
@@ -33,6 +35,14 @@ struct PipelineConfig {
   SupportStageOptions objects;    // Section "objects": support / clutter and object proposals (objects/support_stage.h).
   ReportOptions report;           // Section "report": report.html (report/report.h).
 };
+
+// One key of the YAML file: its section and the option, from the stage's options table (core/option_table.h).
+struct ConfigKey {
+  std::string section;
+  Option<PipelineConfig> option;
+};
+// Every key, in the order of `semvox config --dump`.
+const std::vector<ConfigKey>& ConfigKeys();
 
 // Applies the settings in `path` on top of `config`.
 Status LoadConfigFile(const std::string& path, PipelineConfig* config);

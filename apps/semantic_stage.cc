@@ -74,21 +74,12 @@ bool ParseClassifyViewSelection(const std::string& name, ClassifyViewSelection* 
 }
 
 bool SemanticStageOptions::Check(std::string* error) const {
-  if (classify_width < 16 || classify_width > 4096) {
-    if (error) *error = "classify_width = " + std::to_string(classify_width) + ". Violated constraint: 16 <= classify_width <= 4096";
+  if (!CheckOptions(*this, Options(), error)) return false;
+  if (std::abs(360.0 / classify_yaw_step_deg - std::round(360.0 / classify_yaw_step_deg)) > 1e-9) {
+    if (error) *error = "classify_yaw_step_deg = " + std::to_string(classify_yaw_step_deg) + ". Violated constraint: divides 360";
     return false;
   }
-  if (classify_height < 16 || classify_height > 4096) {
-    if (error) *error = "classify_height = " + std::to_string(classify_height) + ". Violated constraint: 16 <= classify_height <= 4096";
-    return false;
-  }
-  if (!selection.Check(error)) return false;
-  if (!(classify_yaw_step_deg >= 1 && classify_yaw_step_deg <= 360) ||
-      std::abs(360.0 / classify_yaw_step_deg - std::round(360.0 / classify_yaw_step_deg)) > 1e-9) {
-    if (error) *error = "classify_yaw_step_deg = " + std::to_string(classify_yaw_step_deg) + ". Violated constraint: in [1, 360] and divides 360";
-    return false;
-  }
-  return evidence.Check(error) && crf.Check(error);
+  return selection.Check(error) && evidence.Check(error) && crf.Check(error);
 }
 
 std::vector<int> Nyu40OfClasses(const LabelLevel& level) {

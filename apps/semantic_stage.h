@@ -17,6 +17,7 @@
 #include <vector>
 #include <nlohmann/json.hpp>
 #include "core/geometry.h"
+#include "core/option_table.h"
 #include "core/status.h"
 #include "mapping/voxelizer.h"
 #include "render/view_renderer.h"
@@ -68,11 +69,10 @@ bool ParseVoxelCrfModelChoice(const std::string& name, VoxelCrfModelChoice* c);
 bool FlatColouredMesh(const Mesh& mesh);
 
 struct SemanticStageOptions {
-  bool enabled = true;                  // Run the per-view classifiers and the Voxel-CRF.
-  double classify_yaw_step_deg = 30.0;  // Yaw between candidate classification views of one viewpoint, degrees; divides 360.
-  // Classification view size, pixels. The shipped classifiers were trained on 320 x 240 views (the SLIC
-  // superpixel size and the dense CRF's kernel widths are in pixels), so other sizes trade labels for speed.
-  // [16, 4096] each.
+  bool enabled = true;
+  double classify_yaw_step_deg = 30.0;
+  // The shipped classifiers were trained on 320 x 240 views (the SLIC superpixel size and the dense CRF's
+  // kernel widths are in pixels), so other sizes trade labels for speed.
   int classify_width = 320;
   int classify_height = 240;
   ClassifyViewSelection view_selection = ClassifyViewSelection::kAuto;
@@ -80,6 +80,40 @@ struct SemanticStageOptions {
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
+
+  // The fields users set (section `semantic`, with those of selection, evidence and crf): meaning, unit and range.
+  static const OptionTable<SemanticStageOptions>& Options() {
+    using O = SemanticStageOptions;
+    static const OptionTable<O> table = JoinOptions<O>({
+        {
+            OptionSwitch(&O::enabled, "enabled",
+                         "run the per-view classifiers and the Voxel-CRF (voxels.ply, map.ot, semantic top view)"),
+            OptionNumber(&O::classify_yaw_step_deg, "classify_yaw_step_deg", 1, 360, "degrees",
+                         "yaw between candidate classification views of a viewpoint (divides 360)"),
+            OptionChoice(&O::view_selection, "view_selection", {"auto", "cover", "all", "all_objects_on_cover"},
+                         ParseClassifyViewSelection,
+                         "classification views: cover (the fewest candidates that see each surface voxel "
+                         "min_views_per_voxel times, greedy set cover), all, all_objects_on_cover (every view "
+                         "classified, the support / clutter stage on the cover's views only), or auto (cover for "
+                         "meshes, all_objects_on_cover for point clouds)"),
+            OptionChoice(&O::crf_model, "voxel_crf_model", {"auto", "mesh", "cloud"}, ParseVoxelCrfModelChoice,
+                         "Voxel-CRF weights: mesh (models/voxel_crf.txt, trusts the per-view classifiers), cloud "
+                         "(models/voxel_crf_cloud.txt, learned on simulated fused clouds: the object segments count "
+                         "most), or auto (mesh for meshes with one flat colour per surface, as the generator makes "
+                         "them; cloud for point clouds and scanned, textured or uncoloured meshes)"),
+        },
+        NestedOptions(&O::selection, ViewSelectionOptions::Options()),
+        {
+            OptionNumber(&O::classify_width, "classify_width", 16, 4096, "pixels",
+                         "classification view width (the shipped classifiers are trained at 320)"),
+            OptionNumber(&O::classify_height, "classify_height", 16, 4096, "pixels",
+                         "classification view height (trained at 240)"),
+        },
+        NestedOptions(&O::evidence, VoxelEvidenceOptions::Options()),
+        NestedOptions(&O::crf, VoxelCrfOptions::Options()),
+    });
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

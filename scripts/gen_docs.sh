@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Writes the generated reference docs from the semvox binary's own tables:
-#   docs/configuration.md  from `semvox config --dump` (apps/config.cc: key, default, range, meaning)
+#   docs/configuration.md  from `semvox config --dump` (the options structs' Options() tables: key, default, range, meaning)
 #   docs/labels.md         from `semvox labels`        (core/labels_table.cc: NYU40, Eigen-13, NYU-4, room types)
 # Usage: scripts/gen_docs.sh [--check] [SEMVOX_BINARY]   (default binary: build/bin/semvox)
 # --check writes nothing and fails when a doc differs from what the binary prints (ctest docs_in_sync).
@@ -40,7 +40,9 @@ Command-line flags override the file: `--up` (input.up), `--scale` (input.scale)
 (mapping.max_voxels).
 
 This page is generated from `semvox config --dump` by `scripts/gen_docs.sh`; the test `docs_in_sync` fails
-when it is out of date. Ranges are inclusive; `a, b, c` lists the allowed words.
+when it is out of date. Each key is described once, in the static `Options()` table of its stage's options
+struct (`core/option_table.h`), which also gives that struct's `Check()` its ranges. Ranges are inclusive;
+`a, b, c` lists the allowed words.
 INTRO
   "$SEMVOX" config --dump | awk '
     /^#/ { next }

@@ -100,11 +100,16 @@ void Transform(Scene* scene, bool y_up, double scale) {
 
 }  // namespace
 
+bool ParseUpAxis(const std::string& name, UpAxis* up) {
+  if (name == "auto") *up = UpAxis::kAuto;
+  else if (name == "z") *up = UpAxis::kZ;
+  else if (name == "y") *up = UpAxis::kY;
+  else return false;
+  return true;
+}
+
 bool LoadOptions::Check(std::string* error) const {
-  if (!(scale > 0) || !std::isfinite(scale)) {
-    *error = "scale = " + std::to_string(scale) + ". Violated constraint: scale > 0";
-    return false;
-  }
+  if (!CheckOptions(*this, Options(), error)) return false;
   if (min_valid_points < 1) {
     *error = "min_valid_points = " + std::to_string(min_valid_points) + ". Violated constraint: min_valid_points >= 1";
     return false;

@@ -5,25 +5,38 @@
 #include <string>
 
 #include "core/geometry.h"
+#include "core/option_table.h"
 #include "core/status.h"
 
 namespace semvox {
 
 enum class UpAxis { kAuto, kZ, kY };
+// "auto", "z", "y"; false for other names.
+bool ParseUpAxis(const std::string& name, UpAxis* up);
 
 struct LoadOptions {
-  // Up axis of the file. kAuto: +Y for glTF/GLB (Y-up by the glTF specification), +Z otherwise.
   UpAxis up = UpAxis::kAuto;
-  // Multiplies all coordinates (e.g. 0.001 for millimetres). Must be > 0.
   double scale = 1.0;
-  // Largest extent (after scaling) in metres above which a "looks like millimetres" warning is issued.
   double millimetre_warning_extent_m = 200.0;
-  // Fewest valid vertices / points a usable scene needs.
+  // Fewest valid vertices / points a usable scene needs. >= 1.
   int min_valid_points = 3;
-  // `semvox run` only (not LoadScene): estimate the canonical frame (level, turn the walls onto the axes, floor
-  // at z = 0; mapping/scene_frame.h) and work in it, mapping coordinate outputs back to the input frame.
-  bool canonical_frame = true;
+  bool canonical_frame = true;  // Read by `semvox run` (mapping/scene_frame.h), not by LoadScene.
 
+  // The fields users set (section `input`): meaning, unit and range.
+  static const OptionTable<LoadOptions>& Options() {
+    using O = LoadOptions;
+    static const OptionTable<O> table = {
+        OptionChoice(&O::up, "up", {"auto", "z", "y"}, ParseUpAxis,
+                     "up axis of the input file: auto (+Y for glTF, +Z otherwise), z or y"),
+        OptionNumber(&O::scale, "scale", 1e-6, 1e6, "", "multiplies coordinates into metres (0.001 for mm)"),
+        OptionSwitch(&O::canonical_frame, "canonical_frame",
+                     "level the scan, turn its walls onto the x / y axes and put the floor at z = 0 before mapping "
+                     "(coordinate outputs stay in the input frame; false: use the input frame as it is)"),
+        OptionNumber(&O::millimetre_warning_extent_m, "millimetre_warning_extent_m", 1, 1e9, "metres",
+                     "warn about units when the scene is larger than this"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

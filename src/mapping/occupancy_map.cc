@@ -10,6 +10,7 @@
 namespace semvox {
 
 bool OccupancyOptions::Check(std::string* error) const {
+  if (!CheckOptions(*this, Options(), error)) return false;
   if (!(band_max_above_floor_m > band_min_above_floor_m)) {
     *error = "band_max_above_floor_m = " + std::to_string(band_max_above_floor_m) +
              ". Violated constraint: band_max_above_floor_m > band_min_above_floor_m (" +

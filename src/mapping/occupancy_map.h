@@ -4,16 +4,29 @@
 #include <string>
 
 #include "core/image.h"
+#include "core/option_table.h"
 #include "core/status.h"
 #include "core/voxel_grid.h"
 
 namespace semvox {
 
 struct OccupancyOptions {
-  double band_min_above_floor_m = 0.1;  // Lower edge of the height band, metres above the floor.
-  double band_max_above_floor_m = 1.8;  // Upper edge, metres above the floor. > band_min.
+  double band_min_above_floor_m = 0.1;
+  double band_max_above_floor_m = 1.8;  // > band_min_above_floor_m.
   double occupied_thresh = 0.65;        // Written to the YAML (map_server semantics).
   double free_thresh = 0.196;           // Written to the YAML (map_server semantics).
+
+  // The fields users set (section `occupancy`): meaning, unit and range.
+  static const OptionTable<OccupancyOptions>& Options() {
+    using O = OccupancyOptions;
+    static const OptionTable<O> table = {
+        OptionNumber(&O::band_min_above_floor_m, "band_min_above_floor_m", -10, 10, "metres",
+                     "height band bottom above the floor"),
+        OptionNumber(&O::band_max_above_floor_m, "band_max_above_floor_m", -10, 10, "metres",
+                     "height band top above the floor"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

@@ -129,27 +129,7 @@ FloorCeiling DetectFloorCeiling(const std::vector<std::pair<double, double>>& up
   return fc;
 }
 
-bool VoxelizeOptions::Check(std::string* error) const {
-  auto fail = [&](const std::string& field, double value, const std::string& constraint) {
-    *error = field + " = " + std::to_string(value) + ". Violated constraint: " + constraint;
-    return false;
-  };
-  if (!(voxel_size_m >= 0.005 && voxel_size_m <= 1.0)) return fail("voxel_size_m", voxel_size_m, "0.005 <= voxel_size_m <= 1");
-  if (!(scan_spacing_m > 0)) return fail("scan_spacing_m", scan_spacing_m, "scan_spacing_m > 0");
-  if (!(scan_height_m > 0)) return fail("scan_height_m", scan_height_m, "scan_height_m > 0");
-  if (!(scan_clearance_m >= 0)) return fail("scan_clearance_m", scan_clearance_m, "scan_clearance_m >= 0");
-  if (!(max_range_m > 0)) return fail("max_range_m", max_range_m, "max_range_m > 0");
-  if (enclosure_directions < 4) return fail("enclosure_directions", enclosure_directions, "enclosure_directions >= 4");
-  if (!(min_enclosed_fraction >= 0 && min_enclosed_fraction <= 1))
-    return fail("min_enclosed_fraction", min_enclosed_fraction, "0 <= min_enclosed_fraction <= 1");
-  if (!(horizontal_normal_deg > 0 && horizontal_normal_deg < 90))
-    return fail("horizontal_normal_deg", horizontal_normal_deg, "0 < horizontal_normal_deg < 90");
-  if (max_voxels < 1) return fail("max_voxels", double(max_voxels), "max_voxels >= 1");
-  if (cloud_normal_neighbors < 3) return fail("cloud_normal_neighbors", cloud_normal_neighbors, "cloud_normal_neighbors >= 3");
-  if (pocket_rounds < 0 || pocket_rounds > 10) return fail("pocket_rounds", pocket_rounds, "0 <= pocket_rounds <= 10");
-  if (max_pocket_positions < 1) return fail("max_pocket_positions", max_pocket_positions, "max_pocket_positions >= 1");
-  return true;
-}
+bool VoxelizeOptions::Check(std::string* error) const { return CheckOptions(*this, Options(), error); }
 
 Status PlanVoxelGrid(const Aabb& box, const VoxelizeOptions& options, VoxelGrid* grid) {
   const double res = options.voxel_size_m;

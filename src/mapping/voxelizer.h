@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/geometry.h"
+#include "core/option_table.h"
 #include "core/progress.h"
 #include "core/status.h"
 #include "core/voxel_grid.h"
@@ -24,27 +25,53 @@
 namespace semvox {
 
 struct VoxelizeOptions {
-  double voxel_size_m = 0.05;          // Edge of a voxel (OctoMap resolution), metres. Range [0.005, 1].
-  double scan_spacing_m = 1.0;         // Spacing of the grid of candidate scan positions, metres. > 0.
-  double scan_height_m = 1.5;          // Scanner height above the floor (clamped below the ceiling), metres.
-  double scan_clearance_m = 0.3;       // No occupied voxel within this distance of a scan position, metres.
-  double max_range_m = 10.0;           // Scanner range, metres. > 0.
-  int enclosure_directions = 16;       // Horizontal test rays per candidate position.
-  double min_enclosed_fraction = 0.75; // Fraction of them that must hit a surface within range. [0, 1].
-  double horizontal_normal_deg = 10.0; // Surfaces within this angle of horizontal count for floor/ceiling.
-  double min_floor_to_ceiling_m = 1.8; // A ceiling candidate must be at least this far above the floor.
-  size_t max_voxels = 400'000'000;     // Refuse grids with more voxels than this (memory guard).
-  int cloud_normal_neighbors = 12;     // k for PCA normals of clouds without normals.
-  bool free_space = true;              // false: surfaces, floor and ceiling only (no scan positions, no free voxels).
+  double voxel_size_m = 0.05;  // The OctoMap resolution.
+  double scan_spacing_m = 1.0;
+  double scan_height_m = 1.5;  // Clamped below the ceiling.
+  double scan_clearance_m = 0.3;
+  double max_range_m = 10.0;
+  int enclosure_directions = 16;
+  double min_enclosed_fraction = 0.75;
+  double horizontal_normal_deg = 10.0;
+  double min_floor_to_ceiling_m = 1.8;
+  size_t max_voxels = 400'000'000;  // A memory guard.
+  int cloud_normal_neighbors = 12;  // For clouds without normals (PCA normals).
+  bool free_space = true;           // false: surfaces, floor and ceiling only (no scan positions, no free voxels).
   // Pockets: after the grid positions have cast their rays, every region at scanner height that is clear of
   // surfaces by scan_clearance_m (a person 2 x scan_clearance_m wide fits), still unseen, and next to seen
   // free space - a closet, a WC or a hall the 1 m grid missed, glimpsed through its door - gets a position at
   // its most open cell (if it has a floor below and passes the enclosure test), and casts its rays; repeated
   // up to pocket_rounds times. The sealed inside of a closed furniture mesh borders no free space and gets
-  // none. 0 = off. [0, 10].
+  // none.
   int pocket_rounds = 3;
-  int max_pocket_positions = 64;       // New positions per round at most (the largest pockets first). >= 1.
+  int max_pocket_positions = 64;
 
+  // The fields users set (section `mapping`): meaning, unit and range.
+  static const OptionTable<VoxelizeOptions>& Options() {
+    using O = VoxelizeOptions;
+    static const OptionTable<O> table = {
+        OptionNumber(&O::voxel_size_m, "voxel_size_m", 0.005, 1.0, "metres", "voxel edge"),
+        OptionNumber(&O::scan_spacing_m, "scan_spacing_m", 0.05, 100, "metres", "spacing of virtual scan positions"),
+        OptionNumber(&O::scan_height_m, "scan_height_m", 0.1, 10, "metres", "scanner height above the floor"),
+        OptionNumber(&O::scan_clearance_m, "scan_clearance_m", 0, 5, "metres", "free radius around a scan position"),
+        OptionNumber(&O::max_range_m, "max_range_m", 0.1, 1000, "metres", "scanner range"),
+        OptionNumber(&O::enclosure_directions, "enclosure_directions", 4, 360, "",
+                     "horizontal rays testing that a position is indoors"),
+        OptionNumber(&O::min_enclosed_fraction, "min_enclosed_fraction", 0, 1, "",
+                     "fraction of those rays that must hit a surface"),
+        OptionNumber(&O::horizontal_normal_deg, "horizontal_normal_deg", 0.1, 89, "degrees",
+                     "max tilt of floor/ceiling surfaces"),
+        OptionNumber(&O::min_floor_to_ceiling_m, "min_floor_to_ceiling_m", 0.5, 20, "metres",
+                     "min ceiling height above the floor"),
+        OptionNumber(&O::max_voxels, "max_voxels", 1, 1e12, "", "refuse voxel grids larger than this"),
+        OptionNumber(&O::cloud_normal_neighbors, "cloud_normal_neighbors", 3, 100, "", "k for point-cloud normals"),
+        OptionNumber(&O::pocket_rounds, "pocket_rounds", 0, 10, "",
+                     "rounds of extra scan positions in unseen clear pockets (closets, WCs) the grid missed; 0 = off"),
+        OptionNumber(&O::max_pocket_positions, "max_pocket_positions", 1, 100000, "",
+                     "extra positions per round at most, largest pockets first"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

@@ -13,7 +13,7 @@ bool DenseCrfOptions::Check(std::string* error) const {
     return false;
   };
   auto num = [](double v) { return std::to_string(v); };
-  if (iterations < 0 || iterations > 100) return fail("iterations = " + std::to_string(iterations) + ". Violated constraint: 0 <= iterations <= 100");
+  if (!CheckOptions(*this, Options(), error)) return false;
   const std::pair<const char*, double> weights[] = {{"appearance_weight", appearance_weight}, {"smoothness_weight", smoothness_weight},
                                                     {"height_weight", height_weight}, {"normal_weight", normal_weight}};
   for (const auto& [name, v] : weights)

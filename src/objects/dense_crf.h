@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/option_table.h"
 #include "core/status.h"
 #include "objects/cubic_grid.h"
 #include "objects/permutohedral.h"
@@ -39,7 +40,7 @@
 namespace semvox {
 
 struct DenseCrfOptions {
-  int iterations = 5;                   // Mean-field iterations. [0, 100].
+  int iterations = 5;
   double appearance_weight = 3.0;       // w1 (on the normalised kernel, as all weights). >= 0.
   double position_scale_px = 40.0;      // theta_beta, pixels (appearance, height and normal kernels). > 0.
   double colour_scale = 13.0;           // theta_v, RGB units (0..255). > 0.
@@ -69,6 +70,14 @@ struct DenseCrfOptions {
   int lattice_refinement = 1;
   int lattice_refinement_5d = 1;
 
+  // The fields users set (section `objects`): meaning, unit and range.
+  static const OptionTable<DenseCrfOptions>& Options() {
+    using O = DenseCrfOptions;
+    static const OptionTable<O> table = {
+        OptionNumber(&O::iterations, "iterations", 0, 100, "", "dense CRF mean-field iterations"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

@@ -47,12 +47,12 @@ bool ProposalOptions::Check(std::string* error) const {
     if (error) *error = what;
     return false;
   };
+  if (!CheckOptions(*this, Options(), error)) return false;
   if (!(min_side_m > 0 && max_side_m >= min_side_m)) return fail("min_side_m, max_side_m = " + std::to_string(min_side_m) + ", " + std::to_string(max_side_m) + ". Violated constraint: 0 < min_side_m <= max_side_m");
   if (border_px < 1) return fail("border_px = " + std::to_string(border_px) + ". Violated constraint: border_px >= 1");
   if (colour_bins < 2 || colour_bins > 64) return fail("colour_bins = " + std::to_string(colour_bins) + ". Violated constraint: 2 <= colour_bins <= 64");
   if (!(nms_iou > 0 && nms_iou <= 1)) return fail("nms_iou = " + std::to_string(nms_iou) + ". Violated constraint: 0 < nms_iou <= 1");
   if (max_per_view < 1) return fail("max_per_view = " + std::to_string(max_per_view) + ". Violated constraint: max_per_view >= 1");
-  if (!(min_score >= 0 && min_score <= 1)) return fail("min_score = " + std::to_string(min_score) + ". Violated constraint: 0 <= min_score <= 1");
   if (!(depth_band_m > 0)) return fail("depth_band_m = " + std::to_string(depth_band_m) + ". Violated constraint: depth_band_m > 0");
   return true;
 }

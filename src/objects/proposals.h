@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/option_table.h"
 #include "core/status.h"
 #include "objects/svm_classifier.h"
 #include "perception/superpixels.h"
@@ -46,9 +47,18 @@ struct ProposalOptions {
   uint64_t seed = 1;                 // For that draw.
   double nms_iou = 0.5;              // Non-maximum suppression between scored boxes of a view. (0, 1].
   int max_per_view = 50;             // Best boxes kept per view after suppression. >= 1.
-  double min_score = 0.0;            // Boxes scoring below are dropped. [0, 1].
+  double min_score = 0.0;
   double depth_band_m = 0.25;        // 3D box: pixels within this of the box's median depth. > 0.
 
+  // The fields users set (section `objects`): meaning, unit and range.
+  static const OptionTable<ProposalOptions>& Options() {
+    using O = ProposalOptions;
+    static const OptionTable<O> table = {
+        OptionNumber(&O::min_score, "min_score", 0, 1, "",
+                     "proposals scoring below this (the SVM's probability of an object) are dropped"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

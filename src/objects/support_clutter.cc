@@ -17,6 +17,7 @@ double MsSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 bool SupportClutterOptions::Check(std::string* error) const {
+  if (!CheckOptions(*this, Options(), error)) return false;
   if (!superpixels.Check(error) || !features.Check(error) || !crf.Check(error)) return false;
   if (!(min_label_purity > 0 && min_label_purity <= 1)) {
     if (error) *error = "min_label_purity = " + std::to_string(min_label_purity) + ". Violated constraint: 0 < min_label_purity <= 1";

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/option_table.h"
 #include "core/status.h"
 #include "objects/dense_crf.h"
 #include "objects/support_features.h"
@@ -42,7 +43,7 @@ struct SupportClutterOptions {
   }();
   SupportFeatureOptions features;
   DenseCrfOptions crf;
-  bool use_crf = true;            // false: the SVM's superpixel probabilities are the output.
+  bool use_crf = true;
   // A training superpixel takes the majority class of its labelled pixels when that class covers at least
   // this fraction of them. (0, 1].
   double min_label_purity = 0.6;
@@ -50,6 +51,16 @@ struct SupportClutterOptions {
   // evenly): with no 3D cue the SVM's features mean nothing. [1/3, 1).
   double no_depth_other_probability = 0.9;
 
+  // The fields users set (section `objects`): meaning, unit and range.
+  static const OptionTable<SupportClutterOptions>& Options() {
+    using O = SupportClutterOptions;
+    static const OptionTable<O> table = JoinOptions<O>({
+        {OptionSwitch(&O::use_crf, "use_crf",
+                      "dense pixel CRF on the SVM's superpixel probabilities (false: the SVM's output)")},
+        NestedOptions(&O::crf, DenseCrfOptions::Options()),
+    });
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

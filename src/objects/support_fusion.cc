@@ -8,12 +8,9 @@
 namespace semvox {
 
 bool SupportFusionOptions::Check(std::string* error) const {
+  if (!CheckOptions(*this, Options(), error)) return false;
   if (!(voxel_size_m > 0)) {
     if (error) *error = "voxel_size_m = " + std::to_string(voxel_size_m) + ". Violated constraint: voxel_size_m > 0";
-    return false;
-  }
-  if (!(min_label_probability >= 0 && min_label_probability <= 1)) {
-    if (error) *error = "min_label_probability = " + std::to_string(min_label_probability) + ". Violated constraint: 0 <= value <= 1";
     return false;
   }
   return true;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/option_table.h"
 #include "core/status.h"
 #include "core/voxel_grid.h"
 #include "core/voxel_key.h"
@@ -28,8 +29,17 @@ namespace semvox {
 
 struct SupportFusionOptions {
   double voxel_size_m = 0.05;          // Must equal the RenderOptions::voxel_size_m of the views. > 0.
-  double min_label_probability = 0.0;  // A voxel is support / clutter only when that probability is >= this. [0, 1].
+  double min_label_probability = 0.0;
 
+  // The fields users set (section `objects`): meaning, unit and range.
+  static const OptionTable<SupportFusionOptions>& Options() {
+    using O = SupportFusionOptions;
+    static const OptionTable<O> table = {
+        OptionNumber(&O::min_label_probability, "min_label_probability", 0, 1, "",
+                     "a voxel is support / clutter only with at least this fused probability"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

@@ -7,12 +7,7 @@
 namespace semvox {
 
 bool SupportStageOptions::Check(std::string* error) const {
-  if (!classifier.Check(error) || !fusion.Check(error) || !proposal.Check(error)) return false;
-  if (!(merge_iou > 0 && merge_iou <= 1)) {
-    if (error) *error = "merge_iou = " + std::to_string(merge_iou) + ". Violated constraint: 0 < merge_iou <= 1";
-    return false;
-  }
-  return true;
+  return CheckOptions(*this, Options(), error) && classifier.Check(error) && fusion.Check(error) && proposal.Check(error);
 }
 
 std::string SupportStageSummary::BriefReport() const {

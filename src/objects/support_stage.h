@@ -15,6 +15,7 @@
 #include <memory>
 #include <string>
 
+#include "core/option_table.h"
 #include "core/status.h"
 #include "core/voxel_grid.h"
 #include "objects/proposals.h"
@@ -26,18 +27,34 @@
 namespace semvox {
 
 struct SupportStageOptions {
-  bool enabled = true;
+  bool enabled = true;                    // Needs semantic.enabled.
   SupportClutterOptions classifier;
   SupportFusionOptions fusion;            // voxel_size_m: the map's resolution.
-  bool proposals = true;                  // Also generic object proposals (needs nyu4.* and object_proposals.svm).
-  // Proposals scoring below 0.5 (the SVM's probability of "object") stay out of object_proposals.json.
+  bool proposals = true;                  // Needs nyu4.* and object_proposals.svm.
   ProposalOptions proposal = [] {
     ProposalOptions o;
     o.min_score = 0.5;
     return o;
   }();
-  double merge_iou = 0.25;                // 3D IoU at which proposals of different views merge. (0, 1].
+  double merge_iou = 0.25;
 
+  // The fields users set (section `objects`, with those of classifier, fusion and proposal): meaning, unit and range.
+  static const OptionTable<SupportStageOptions>& Options() {
+    using O = SupportStageOptions;
+    static const OptionTable<O> table = JoinOptions<O>({
+        {
+            OptionSwitch(&O::enabled, "enabled",
+                         "classify support / clutter / other in every classification view (needs semantic.enabled): "
+                         "support_clutter.ply, support_clutter_topview.png"),
+            OptionSwitch(&O::proposals, "proposals", "also generic object proposals, merged across views: object_proposals.json"),
+        },
+        NestedOptions(&O::classifier, SupportClutterOptions::Options()),
+        NestedOptions(&O::fusion, SupportFusionOptions::Options()),
+        NestedOptions(&O::proposal, ProposalOptions::Options()),
+        {OptionNumber(&O::merge_iou, "merge_iou", 0.01, 1, "", "3D IoU at which proposals of different views merge")},
+    });
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

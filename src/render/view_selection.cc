@@ -9,20 +9,7 @@
 
 namespace semvox {
 
-bool ViewSelectionOptions::Check(std::string* error) const {
-  std::ostringstream os;
-  if (min_views_per_voxel < 1 || min_views_per_voxel > 100)
-    os << "min_views_per_voxel = " << min_views_per_voxel << ". Violated constraint: 1 <= min_views_per_voxel <= 100";
-  else if (!(max_incidence_deg >= 1 && max_incidence_deg <= 90))
-    os << "max_incidence_deg = " << max_incidence_deg << ". Violated constraint: 1 <= max_incidence_deg <= 90";
-  else if (!(min_gain_fraction >= 0 && min_gain_fraction < 1))
-    os << "min_gain_fraction = " << min_gain_fraction << ". Violated constraint: 0 <= min_gain_fraction < 1";
-  else if (visibility_downscale < 1 || visibility_downscale > 16)
-    os << "visibility_downscale = " << visibility_downscale << ". Violated constraint: 1 <= visibility_downscale <= 16";
-  if (os.str().empty()) return true;
-  if (error) *error = os.str();
-  return false;
-}
+bool ViewSelectionOptions::Check(std::string* error) const { return CheckOptions(*this, Options(), error); }
 
 std::vector<uint32_t> SurfaceVoxels(const VoxelGrid& grid) {
   std::vector<uint32_t> surface;

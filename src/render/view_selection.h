@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "core/option_table.h"
 #include "core/voxel_grid.h"
 #include "render/camera.h"
 #include "render/view_renderer.h"
@@ -31,21 +32,31 @@
 namespace semvox {
 
 struct ViewSelectionOptions {
-  // Each surface voxel should be seen by this many chosen views (k of the multi-cover); 4 keeps the voxel
-  // label accuracy of classifying every candidate on the validation apartments with a third of the views
-  // (docs/speed.md). [1, 100].
+  // k of the multi-cover; 4 keeps the voxel label accuracy of classifying every candidate on the validation
+  // apartments with a third of the views (docs/speed.md).
   int min_views_per_voxel = 4;
-  // A pixel counts as seeing its voxel when the angle between its ray and the surface normal is at most
-  // this, degrees: grazing views give little evidence of a surface. [1, 90].
-  double max_incidence_deg = 75.0;
-  // Stop when the best remaining view lowers the remaining demand by less than this fraction of the total
-  // demand (sum over surface voxels of min(k, candidates that see it)). 0 takes views until no demand that
-  // the candidates can meet is left. [0, 1).
+  double max_incidence_deg = 75.0;  // Grazing views give little evidence of a surface.
+  // The total demand is the sum over surface voxels of min(k, candidates that see it); 0 takes views until no
+  // demand that the candidates can meet is left.
   double min_gain_fraction = 0.002;
-  // The visibility pass traces each candidate at 1 / this of its resolution in each direction (the same
-  // field of view); at 320 x 240 and 60 degrees, 2 gives pixels about a 5 cm voxel wide at 3 m. [1, 16].
+  // Same field of view; at 320 x 240 and 60 degrees, 2 gives pixels about a 5 cm voxel wide at 3 m.
   int visibility_downscale = 2;
 
+  // The fields users set (section `semantic`): meaning, unit and range.
+  static const OptionTable<ViewSelectionOptions>& Options() {
+    using O = ViewSelectionOptions;
+    static const OptionTable<O> table = {
+        OptionNumber(&O::min_views_per_voxel, "min_views_per_voxel", 1, 100, "",
+                     "cover: chosen views that should see each surface voxel (k)"),
+        OptionNumber(&O::max_incidence_deg, "max_incidence_deg", 1, 90, "degrees",
+                     "cover: a view sees a voxel only when its ray meets the surface at most this far from the normal"),
+        OptionNumber(&O::min_gain_fraction, "min_gain_fraction", 0, 0.999999, "",
+                     "cover: stop when the best further view meets less than this fraction of the total demand"),
+        OptionNumber(&O::visibility_downscale, "visibility_downscale", 1, 16, "",
+                     "cover: candidates are traced at 1/this of the classification resolution"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

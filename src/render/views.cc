@@ -95,40 +95,16 @@ const char* ViewDropName(ViewDrop d) {
 }
 
 bool ViewsOptions::Check(std::string* error) const {
+  if (!CheckOptions(*this, Options(), error)) return false;
+  const auto divides_360 = [](double step) { return std::abs(360.0 / step - std::round(360.0 / step)) <= 1e-6; };
   std::ostringstream os;
-  const auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
-  const double views_per_turn = 360.0 / yaw_step_deg;
-  if (width < 16 || width > 8192) os << "width = " << width << ". Violated constraint: 16 <= width <= 8192";
-  else if (height < 16 || height > 8192) os << "height = " << height << ". Violated constraint: 16 <= height <= 8192";
-  else if (!in(horizontal_fov_deg, 2, 170))
-    os << "horizontal_fov_deg = " << horizontal_fov_deg << ". Violated constraint: 2 <= horizontal_fov_deg <= 170";
-  else if (!in(height_fraction, 0.05, 0.95))
-    os << "height_fraction = " << height_fraction << ". Violated constraint: 0.05 <= height_fraction <= 0.95";
-  else if (!in(grid_spacing_m, 0.1, 100))
-    os << "grid_spacing_m = " << grid_spacing_m << ". Violated constraint: 0.1 <= grid_spacing_m <= 100";
-  else if (!in(wall_clearance_m, 0, 10))
-    os << "wall_clearance_m = " << wall_clearance_m << ". Violated constraint: 0 <= wall_clearance_m <= 10";
-  else if (!in(yaw_step_deg, 1, 360) || std::abs(views_per_turn - std::round(views_per_turn)) > 1e-6)
-    os << "yaw_step_deg = " << yaw_step_deg << ". Violated constraint: 1 <= yaw_step_deg <= 360 and divides 360";
-  else if (!in(pitch_deg, -89, 89)) os << "pitch_deg = " << pitch_deg << ". Violated constraint: -89 <= pitch_deg <= 89";
-  else if (!in(tilted_ring_deg, 0, 89) || !in(pitch_deg + tilted_ring_deg, -89, 89) || !in(pitch_deg - tilted_ring_deg, -89, 89))
-    os << "tilted_ring_deg = " << tilted_ring_deg << ". Violated constraint: 0 <= tilted_ring_deg <= 89 and "
-       << "-89 <= pitch_deg +- tilted_ring_deg <= 89";
-  else if (!in(tilted_ring_yaw_step_deg, 1, 360) ||
-           std::abs(360.0 / tilted_ring_yaw_step_deg - std::round(360.0 / tilted_ring_yaw_step_deg)) > 1e-6)
+  if (!divides_360(yaw_step_deg)) os << "yaw_step_deg = " << yaw_step_deg << ". Violated constraint: yaw_step_deg divides 360";
+  else if (!divides_360(tilted_ring_yaw_step_deg))
     os << "tilted_ring_yaw_step_deg = " << tilted_ring_yaw_step_deg
-       << ". Violated constraint: 1 <= tilted_ring_yaw_step_deg <= 360 and divides 360";
-  else if (!(max_depth_m > 0) || std::isnan(max_depth_m))
-    os << "max_depth_m = " << max_depth_m << ". Violated constraint: max_depth_m > 0";
-  else if (!(min_median_depth_m >= 0)) os << "min_median_depth_m = " << min_median_depth_m << ". Violated constraint: >= 0";
-  else if (!(min_color_stddev >= 0)) os << "min_color_stddev = " << min_color_stddev << ". Violated constraint: >= 0";
-  else if (!in(min_hit_fraction, 0, 1))
-    os << "min_hit_fraction = " << min_hit_fraction << ". Violated constraint: 0 <= min_hit_fraction <= 1";
-  else if (thumbnail_width < 16 || thumbnail_width > 8192)
-    os << "thumbnail_width = " << thumbnail_width << ". Violated constraint: 16 <= thumbnail_width <= 8192";
-  else if (!in(cloud_cell_m, 0, 1)) os << "cloud_cell_m = " << cloud_cell_m << ". Violated constraint: 0 <= cloud_cell_m <= 1";
-  else if (!(cloud_radius_factor > 0 && cloud_radius_factor <= 10))
-    os << "cloud_radius_factor = " << cloud_radius_factor << ". Violated constraint: 0 < cloud_radius_factor <= 10";
+       << ". Violated constraint: tilted_ring_yaw_step_deg divides 360";
+  else if (std::abs(pitch_deg) + tilted_ring_deg > 89)
+    os << "tilted_ring_deg = " << tilted_ring_deg << ". Violated constraint: -89 <= pitch_deg +- tilted_ring_deg <= 89 "
+       << "(pitch_deg = " << pitch_deg << ")";
   if (os.str().empty()) return true;
   if (error) *error = os.str();
   return false;

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "core/option_table.h"
 #include "core/status.h"
 #include "core/voxel_grid.h"
 #include "mapping/voxelizer.h"
@@ -29,39 +30,69 @@
 namespace semvox {
 
 struct ViewsOptions {
-  int width = 640;                    // Image width, pixels. [16, 8192].
-  int height = 480;                   // Image height, pixels (4:3 as in the paper). [16, 8192].
-  double horizontal_fov_deg = 90.0;   // Horizontal field of view, degrees. [2, 170].
-  double height_fraction = 0.5;       // Camera height between floor (0) and ceiling (1). [0.05, 0.95].
-  double grid_spacing_m = 1.5;        // Side of the squares that each get one viewpoint, metres. [0.1, 100].
-                                      // 1.5 m keeps 96% coverage of the demo scene with half the views of 1 m.
-  double wall_clearance_m = 0.4;      // Minimum distance from a viewpoint to a non-free voxel, metres. [0, 10].
-  double yaw_step_deg = 10.0;         // Yaw between views of one viewpoint (36 views), degrees; divides 360.
-  double pitch_deg = 0.0;             // Camera pitch of the main ring, degrees, > 0 looks up. [-89, 89].
-  // Extra rings tilted up and down by this much (0: none), for a tripod with several cameras like the
-  // Matterport scanner of the paper's data; without them the floor and ceiling near each viewpoint stay
-  // unseen. Degrees. [0, 89].
+  int width = 640;
+  int height = 480;                   // 4:3 as in the paper.
+  double horizontal_fov_deg = 90.0;
+  double height_fraction = 0.5;
+  double grid_spacing_m = 1.5;        // 1.5 m keeps 96% coverage of the demo scene with half the views of 1 m.
+  double wall_clearance_m = 0.4;
+  double yaw_step_deg = 10.0;         // 36 views.
+  double pitch_deg = 0.0;
+  // The tilted rings are for a tripod with several cameras like the Matterport scanner of the paper's data;
+  // without them the floor and ceiling near each viewpoint stay unseen. -89 <= pitch_deg +- tilted_ring_deg <= 89.
   double tilted_ring_deg = 0.0;
-  double tilted_ring_yaw_step_deg = 30.0;  // Yaw between views of the tilted rings, degrees; divides 360.
-  double max_depth_m = 50.0;          // Hits deeper than this stay empty, metres. > 0.
-  double min_median_depth_m = 0.8;    // Drop views whose median depth (over hit pixels) is below, metres. >= 0.
-  double min_color_stddev = 6.0;      // Drop views whose colour spread (RMS of per-channel standard
-                                      // deviations over hit pixels, 0-255 scale) is below this. >= 0.
-  double min_hit_fraction = 0.25;     // Drop views where fewer pixels than this fraction hit the scene. [0, 1].
-  int thumbnail_width = 160;          // Width of the PNG thumbnails written by --save-views, pixels. [16, 8192].
-  // Point clouds: the points of each cube of this side become one disc (RaycasterOptions::cloud_cell_m),
-  // metres; 0 renders one disc per point. [0, 1].
-  double cloud_cell_m = 0.05;
-  // Point clouds: disc radius as a multiple of the mean distance to the 8 nearest discs
-  // (RaycasterOptions::point_radius_factor). On a square grid of spacing s that distance is 1.21 s and
-  // discs close the plane from 0.59 on; larger factors overlap more and cost more rays' tests. (0, 10].
+  double tilted_ring_yaw_step_deg = 30.0;
+  double max_depth_m = 50.0;
+  double min_median_depth_m = 0.8;    // Over hit pixels.
+  double min_color_stddev = 6.0;      // RMS of the per-channel standard deviations over hit pixels.
+  double min_hit_fraction = 0.25;
+  int thumbnail_width = 160;
+  double cloud_cell_m = 0.05;         // RaycasterOptions::cloud_cell_m.
+  // RaycasterOptions::point_radius_factor. On a square grid of spacing s the mean distance to the 8 nearest
+  // discs is 1.21 s and discs close the plane from 0.59 on; larger factors overlap more and cost more rays' tests.
   double cloud_radius_factor = 0.75;
-  // Point clouds: each disc drawn as the square around it (two triangles; RaycasterOptions::cloud_squares).
-  // On generated apartments squares of 0.7-0.8 x the spacing at 5 cm cells trace in 1.2-1.4 x a mesh's time
-  // where single-point discs took 4.8 x, with labels agreeing with the mesh's views as well or better
-  // (bench/cloud_render_bench.cc, docs/speed.md).
+  // RaycasterOptions::cloud_squares. On generated apartments squares of 0.7-0.8 x the spacing at 5 cm cells
+  // trace in 1.2-1.4 x a mesh's time where single-point discs took 4.8 x, with labels agreeing with the mesh's
+  // views as well or better (bench/cloud_render_bench.cc, docs/speed.md).
   bool cloud_squares = true;
 
+  // The fields users set (section `render`): meaning, unit and range.
+  static const OptionTable<ViewsOptions>& Options() {
+    using O = ViewsOptions;
+    static const OptionTable<O> table = {
+        OptionNumber(&O::width, "width", 16, 8192, "pixels", "view width"),
+        OptionNumber(&O::height, "height", 16, 8192, "pixels", "view height"),
+        OptionNumber(&O::horizontal_fov_deg, "horizontal_fov_deg", 2, 170, "degrees", "horizontal field of view"),
+        OptionNumber(&O::height_fraction, "height_fraction", 0.05, 0.95, "",
+                     "camera height between floor (0) and ceiling (1)"),
+        OptionNumber(&O::grid_spacing_m, "grid_spacing_m", 0.1, 100, "metres", "one viewpoint per square of this side"),
+        OptionNumber(&O::wall_clearance_m, "wall_clearance_m", 0, 10, "metres",
+                     "min distance from a viewpoint to a non-free voxel"),
+        OptionNumber(&O::yaw_step_deg, "yaw_step_deg", 1, 360, "degrees",
+                     "yaw between views of a viewpoint (divides 360)"),
+        OptionNumber(&O::pitch_deg, "pitch_deg", -89, 89, "degrees", "camera pitch of the main ring (> 0 looks up)"),
+        OptionNumber(&O::tilted_ring_deg, "tilted_ring_deg", 0, 89, "degrees",
+                     "extra rings tilted down and up by this much (0: none)"),
+        OptionNumber(&O::tilted_ring_yaw_step_deg, "tilted_ring_yaw_step_deg", 1, 360, "degrees",
+                     "yaw between views of the tilted rings (divides 360)"),
+        OptionNumber(&O::max_depth_m, "max_depth_m", 0.01, 1e6, "metres", "hits deeper than this stay empty"),
+        OptionNumber(&O::min_median_depth_m, "min_median_depth_m", 0, 100, "metres",
+                     "drop views with a smaller median depth (too close to a wall)"),
+        OptionNumber(&O::min_color_stddev, "min_color_stddev", 0, 255, "0-255",
+                     "drop views with a smaller colour spread (too homogeneous)"),
+        OptionNumber(&O::min_hit_fraction, "min_hit_fraction", 0, 1, "", "drop views where fewer pixels hit the scene"),
+        OptionNumber(&O::thumbnail_width, "thumbnail_width", 16, 8192, "pixels", "width of --save-views thumbnails"),
+        OptionNumber(&O::cloud_cell_m, "cloud_cell_m", 0, 1, "metres",
+                     "point clouds: points of each cube of this side are drawn as one disc at their centroid (0: one "
+                     "disc per point)"),
+        OptionNumber(&O::cloud_radius_factor, "cloud_radius_factor", 1e-3, 10, "",
+                     "point clouds: disc radius as a multiple of the mean distance to the 8 nearest discs"),
+        OptionSwitch(&O::cloud_squares, "cloud_squares",
+                     "point clouds: draw each disc as the square around it (two triangles, about 3 x faster to trace "
+                     "than a disc)"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
   PinholeCamera Camera() const { return PinholeCamera::FromHorizontalFov(width, height, horizontal_fov_deg); }
   RenderOptions Render(double voxel_size_m) const { return RenderOptions{voxel_size_m, max_depth_m}; }

@@ -31,8 +31,6 @@ namespace {
 constexpr const char* kNotComputed = "<p class=\"na\">not computed</p>\n";
 // occupancy.pgm values (mapping/occupancy_map.h, map_server trinary).
 constexpr uint8_t kPgmOccupied = 0, kPgmFree = 254, kPgmUnknown = 205;
-// Allowed range of ReportOptions::view_3d_max_voxels (at the top about 180 MB of page).
-constexpr int kMinView3dVoxels = 1000, kMaxView3dVoxels = 10000000;
 
 using html::Base64;
 using html::Escape;
@@ -281,17 +279,13 @@ std::string DefaultThreeJsPath() {
 }
 
 bool ReportOptions::Check(std::string* error) const {
+  if (!CheckOptions(*this, Options(), error)) return false;
   if (output_name.empty() || output_name.find('/') != std::string::npos || output_name == "." || output_name == "..") {
     *error = "output_name = '" + output_name + "'. Violated constraint: a plain file name";
     return false;
   }
   if (image_display_width_px < 64 || image_display_width_px > 8192) {
     *error = "image_display_width_px = " + std::to_string(image_display_width_px) + ". Allowed range: [64, 8192]";
-    return false;
-  }
-  if (view_3d_max_voxels < kMinView3dVoxels || view_3d_max_voxels > kMaxView3dVoxels) {
-    *error = "view_3d_max_voxels = " + std::to_string(view_3d_max_voxels) + ". Allowed range: [" + std::to_string(kMinView3dVoxels) +
-             ", " + std::to_string(kMaxView3dVoxels) + "]";
     return false;
   }
   return true;

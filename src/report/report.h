@@ -24,6 +24,7 @@
 #include <string>
 
 #include "core/geometry.h"
+#include "core/option_table.h"
 #include "core/status.h"
 
 namespace semvox {
@@ -32,11 +33,23 @@ struct ReportOptions {
   std::string output_name = "report.html";  // File name inside OUTDIR (no directory part).
   int image_display_width_px = 640;         // Top views are shown at about this width (integer zoom, nearest pixel).
   bool read_voxels_ply = true;              // Class histogram from voxels.ply when present (else from summary.json).
-  bool view_3d = true;                      // The interactive 3D view of voxels.ply (`semvox report --no-3d`: false).
-  int view_3d_max_voxels = 1000000;         // Voxels in the 3D view at most (about 18 bytes each in the page); larger
-                                            // maps merge 2x2x2 blocks until they fit.
+  bool view_3d = true;
+  int view_3d_max_voxels = 1000000;         // At the top about 180 MB of page.
   std::string three_js_path;                // three.js (UMD build, e.g. three.min.js) inlined for the 3D view; empty:
                                             // DefaultThreeJsPath().
+
+  // The fields users set (section `report`): meaning, unit and range.
+  static const OptionTable<ReportOptions>& Options() {
+    using O = ReportOptions;
+    static const OptionTable<O> table = {
+        OptionSwitch(&O::view_3d, "view_3d",
+                     "interactive 3D view of voxels.ply in report.html (three.js inlined; `semvox report --no-3d` leaves it out)"),
+        OptionNumber(&O::view_3d_max_voxels, "view_3d_max_voxels", 1000, 10000000, "",
+                     "voxels in the 3D view at most (about 18 bytes each in the page); larger maps merge 2x2x2 blocks "
+                     "until they fit"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

@@ -86,22 +86,9 @@ size_t FloorPlan::Count(FloorCell kind) const {
 }
 
 bool FloorPlanOptions::Check(std::string* error) const {
-  if (!(door_min_width_m > 0)) return *error = Violated("door_min_width_m", door_min_width_m, "door_min_width_m > 0"), false;
+  if (!CheckOptions(*this, Options(), error)) return false;
   if (!(door_max_width_m >= door_min_width_m))
     return *error = Violated("door_max_width_m", door_max_width_m, "door_max_width_m >= door_min_width_m"), false;
-  if (!(door_min_height_m > 0)) return *error = Violated("door_min_height_m", door_min_height_m, "door_min_height_m > 0"), false;
-  if (!(lintel_ceiling_gap_m >= 0))
-    return *error = Violated("lintel_ceiling_gap_m", lintel_ceiling_gap_m, "lintel_ceiling_gap_m >= 0"), false;
-  if (!(wall_min_height_m > 0)) return *error = Violated("wall_min_height_m", wall_min_height_m, "wall_min_height_m > 0"), false;
-  if (!(clutter_max_area_m2 >= 0))
-    return *error = Violated("clutter_max_area_m2", clutter_max_area_m2, "clutter_max_area_m2 >= 0"), false;
-  if (!(clutter_max_length_m >= 0))
-    return *error = Violated("clutter_max_length_m", clutter_max_length_m, "clutter_max_length_m >= 0"), false;
-  if (!(ceiling_step_m >= 0)) return *error = Violated("ceiling_step_m", ceiling_step_m, "ceiling_step_m >= 0"), false;
-  if (!(ceiling_zone_min_area_m2 >= 0))
-    return *error = Violated("ceiling_zone_min_area_m2", ceiling_zone_min_area_m2, "ceiling_zone_min_area_m2 >= 0"), false;
-  if (!(free_threshold >= 0 && free_threshold <= 254))
-    return *error = Violated("free_threshold", free_threshold, "0 <= free_threshold <= 254"), false;
   return true;
 }
 

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "core/image.h"
+#include "core/option_table.h"
 #include "core/status.h"
 #include "core/voxel_grid.h"
 #include "mapping/occupancy_map.h"
@@ -52,20 +53,42 @@ struct FloorPlan {
 };
 
 struct FloorPlanOptions {
-  double door_min_width_m = 0.55;         // Narrowest door opening, metres. > 0.
-  double door_max_width_m = 1.3;          // Widest door opening, metres. >= door_min_width_m.
-  double door_min_height_m = 1.85;        // Lowest lintel underside above the floor, metres. > 0.
-  double lintel_ceiling_gap_m = 0.15;     // A lintel ends at least this far below the ceiling, metres. >= 0.
-  double wall_min_height_m = 2.2;         // An obstacle reaching this high above the floor is wall (taller
-                                          // than wardrobes and doors), metres. > 0.
-  double ceiling_step_m = 0.25;           // A ceiling height change this large between two ceiling zones is a
-                                          // room border, metres; 0 = off. >= 0.
-  double ceiling_zone_min_area_m2 = 2.0;  // ... when both zones cover this area (not a lamp or a lintel), m². >= 0.
-  double clutter_max_area_m2 = 1.0;       // 2D maps: obstacle islands up to this area ... m². >= 0.
-  double clutter_max_length_m = 1.0;      // ... and this bounding-box diagonal are clutter (furniture), not
-                                          // wall fragments, metres. >= 0.
-  int free_threshold = 250;               // 2D maps: grey values above this are free (as the ipa benchmark). [0, 254].
+  double door_min_width_m = 0.55;
+  double door_max_width_m = 1.3;          // >= door_min_width_m.
+  double door_min_height_m = 1.85;
+  double lintel_ceiling_gap_m = 0.15;
+  double wall_min_height_m = 2.2;         // Taller than wardrobes and doors.
+  double ceiling_step_m = 0.25;
+  double ceiling_zone_min_area_m2 = 2.0;  // Not a lamp or a lintel.
+  double clutter_max_area_m2 = 1.0;
+  double clutter_max_length_m = 1.0;      // Furniture, not wall fragments.
+  int free_threshold = 250;               // As the ipa benchmark.
 
+  // The fields users set (section `rooms`): meaning, unit and range.
+  static const OptionTable<FloorPlanOptions>& Options() {
+    using O = FloorPlanOptions;
+    static const OptionTable<O> table = {
+        OptionNumber(&O::door_min_width_m, "door_min_width_m", 0.1, 10, "metres", "narrowest door opening"),
+        OptionNumber(&O::door_max_width_m, "door_max_width_m", 0.1, 10, "metres",
+                     "widest door opening (lintel detection)"),
+        OptionNumber(&O::door_min_height_m, "door_min_height_m", 0.5, 10, "metres",
+                     "lowest lintel underside above the floor"),
+        OptionNumber(&O::lintel_ceiling_gap_m, "lintel_ceiling_gap_m", 0, 5, "metres",
+                     "a lintel ends at least this far below the ceiling"),
+        OptionNumber(&O::wall_min_height_m, "wall_min_height_m", 0.5, 10, "metres",
+                     "obstacles reaching this high are walls, not furniture"),
+        OptionNumber(&O::ceiling_step_m, "ceiling_step_m", 0, 5, "metres",
+                     "a ceiling height change this large between two ceiling zones is a room border (0 = off)"),
+        OptionNumber(&O::ceiling_zone_min_area_m2, "ceiling_zone_min_area_m2", 0, 1000, "m2",
+                     "... when both zones cover this area"),
+        OptionNumber(&O::clutter_max_area_m2, "clutter_max_area_m2", 0, 100, "m2",
+                     "2D maps: obstacle islands up to this area are furniture"),
+        OptionNumber(&O::clutter_max_length_m, "clutter_max_length_m", 0, 100, "metres",
+                     "2D maps: ... and up to this bounding-box diagonal"),
+        OptionNumber(&O::free_threshold, "free_threshold", 0, 254, "", "2D maps: grey values above this are free"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

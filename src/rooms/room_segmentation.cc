@@ -13,12 +13,6 @@
 namespace semvox {
 namespace {
 
-std::string Violated(const char* field, double value, const std::string& constraint) {
-  std::ostringstream os;
-  os << field << " = " << value << ". Violated constraint: " << constraint;
-  return os.str();
-}
-
 // The part of the plan the segmentation works on, cropped to the bounding box of the room space.
 struct Workspace {
   cv::Rect roi;            // In plan pixels.
@@ -310,21 +304,7 @@ bool ParseRoomSegmentationMethod(const std::string& name, RoomSegmentationMethod
   return false;
 }
 
-bool RoomSegmentationOptions::Check(std::string* error) const {
-  if (!(max_opening_width_m > 0))
-    return *error = Violated("max_opening_width_m", max_opening_width_m, "max_opening_width_m > 0"), false;
-  if (!(saddle_ratio > 0 && saddle_ratio <= 1))
-    return *error = Violated("saddle_ratio", saddle_ratio, "0 < saddle_ratio <= 1"), false;
-  if (!(saddle_ratio_larger > 0 && saddle_ratio_larger <= 1))
-    return *error = Violated("saddle_ratio_larger", saddle_ratio_larger, "0 < saddle_ratio_larger <= 1"), false;
-  if (!(min_room_radius_m >= 0))
-    return *error = Violated("min_room_radius_m", min_room_radius_m, "min_room_radius_m >= 0"), false;
-  if (!(min_room_area_m2 >= 0)) return *error = Violated("min_room_area_m2", min_room_area_m2, "min_room_area_m2 >= 0"), false;
-  if (!(min_seed_area_m2 > 0)) return *error = Violated("min_seed_area_m2", min_seed_area_m2, "min_seed_area_m2 > 0"), false;
-  if (!(max_speck_distance_m >= 0))
-    return *error = Violated("max_speck_distance_m", max_speck_distance_m, "max_speck_distance_m >= 0"), false;
-  return true;
-}
+bool RoomSegmentationOptions::Check(std::string* error) const { return CheckOptions(*this, Options(), error); }
 
 RoomSegmentation SegmentRooms(const FloorPlan& plan, const RoomSegmentationOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/option_table.h"
 #include "core/status.h"
 #include "rooms/floor_plan.h"
 
@@ -39,26 +40,46 @@ bool ParseRoomSegmentationMethod(const std::string& name, RoomSegmentationMethod
 
 struct RoomSegmentationOptions {
   RoomSegmentationMethod method = RoomSegmentationMethod::kDistanceWatershed;
-  double max_opening_width_m = 2.0;   // Widest opening that can separate two rooms (doors and the wide
-                                      // openings floor plans still draw a room border across), metres. > 0.
-  double saddle_ratio = 0.7;          // distance: a pass separates rooms only when narrower than this
-                                      // fraction of the smaller room's inscribed radius... (0, 1].
-  double saddle_ratio_larger = 0.5;   // distance: ... or than this fraction of the larger room's (a door
-                                      // from a narrow corridor into a big room). (0, 1].
-  double wall_gap_max_m = 2.5;        // distance: the gap from the end of a thin wall straight on to the next
-                                      // obstacle is a candidate room border when at most this long, metres;
-                                      // 0 = off. >= 0.
-  double wall_gap_ratio = 1.0;        // distance: a wall-gap line separates rooms when its half length is
-                                      // below this fraction of the smaller room's inscribed radius. > 0.
-  double min_room_radius_m = 0.3;     // distance: basins with a smaller inscribed radius never stay apart
-                                      // (alcoves, niches, gaps between furniture), metres. >= 0.
-  double min_room_area_m2 = 0.5;      // Smaller rooms merge into a neighbour, m² (a closet is 0.5 m²). >= 0.
-  double min_seed_area_m2 = 1.0;      // morphological: pieces the erosion splits apart stay separate rooms
-                                      // when both still cover this area, m². > 0.
-  double max_speck_distance_m = 0.5;  // Unreached free cells join the nearest room within this, metres. >= 0.
-  bool fill_clutter = true;           // Treat clutter cells as room space while segmenting (they never get
-                                      // an id in room_ids, only in room_extent_ids).
+  double max_opening_width_m = 2.0;  // Doors and the wide openings floor plans still draw a room border across.
+  double saddle_ratio = 0.7;
+  double saddle_ratio_larger = 0.5;  // A door from a narrow corridor into a big room.
+  double wall_gap_max_m = 2.5;
+  double wall_gap_ratio = 1.0;
+  double min_room_radius_m = 0.3;    // Alcoves, niches and gaps between furniture never stay apart.
+  double min_room_area_m2 = 0.5;     // A closet is 0.5 m².
+  double min_seed_area_m2 = 1.0;
+  double max_speck_distance_m = 0.5;
+  bool fill_clutter = true;          // Treat clutter cells as room space while segmenting (they never get
+                                     // an id in room_ids, only in room_extent_ids).
 
+  // The fields users set (section `rooms`): meaning, unit and range.
+  static const OptionTable<RoomSegmentationOptions>& Options() {
+    using O = RoomSegmentationOptions;
+    static const OptionTable<O> table = {
+        OptionChoice(&O::method, "method", RoomSegmentationMethodNames(), ParseRoomSegmentationMethod,
+                     "room segmentation method (distance: doorway-aware distance watershed; morphological: erosion + growth)"),
+        OptionNumber(&O::max_opening_width_m, "max_opening_width_m", 0.1, 20, "metres",
+                     "widest opening that separates rooms"),
+        OptionNumber(&O::saddle_ratio, "saddle_ratio", 0.01, 1, "",
+                     "distance: a pass separates rooms below this fraction of the smaller room's inscribed radius"),
+        OptionNumber(&O::saddle_ratio_larger, "saddle_ratio_larger", 0.01, 1, "",
+                     "distance: ... or of the larger room's inscribed radius"),
+        OptionNumber(&O::min_room_radius_m, "min_room_radius_m", 0, 10, "metres",
+                     "distance: rooms need at least this inscribed radius"),
+        OptionNumber(&O::wall_gap_max_m, "wall_gap_max_m", 0, 20, "metres",
+                     "distance: gaps from a thin wall's end straight on to an obstacle up to this long are candidate "
+                     "room borders (0 = off)"),
+        OptionNumber(&O::wall_gap_ratio, "wall_gap_ratio", 0.01, 100, "",
+                     "distance: such a border separates rooms below this ratio of its half length to the smaller "
+                     "room's inscribed radius"),
+        OptionNumber(&O::min_room_area_m2, "min_room_area_m2", 0, 1000, "m2", "smaller rooms merge into a neighbour"),
+        OptionNumber(&O::min_seed_area_m2, "min_seed_area_m2", 0.01, 1000, "m2",
+                     "morphological: pieces split by the erosion stay rooms when both cover this"),
+        OptionNumber(&O::max_speck_distance_m, "max_speck_distance_m", 0, 10, "metres",
+                     "unreached free cells join the nearest room within this"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

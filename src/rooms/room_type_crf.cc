@@ -191,29 +191,7 @@ Result<RoomTypeModel> LoadRoomTypeModel(const std::string& path) {
   return m;
 }
 
-bool RoomTypeCrfOptions::Check(std::string* error) const {
-  auto fail = [&](const std::string& m) { return *error = m, false; };
-  if (!(cell_size_m > 0)) return fail("cell_size_m = " + std::to_string(cell_size_m) + ". Violated constraint: cell_size_m > 0");
-  if (!(max_pair_distance_m > 0))
-    return fail("max_pair_distance_m = " + std::to_string(max_pair_distance_m) + ". Violated constraint: max_pair_distance_m > 0");
-  if (!(gauss_sigma_m > 0)) return fail("gauss_sigma_m = " + std::to_string(gauss_sigma_m) + ". Violated constraint: gauss_sigma_m > 0");
-  if (!(gauss_same_segment >= 0))
-    return fail("gauss_same_segment = " + std::to_string(gauss_same_segment) + ". Violated constraint: gauss_same_segment >= 0");
-  if (!(gauss_other_segment >= 0))
-    return fail("gauss_other_segment = " + std::to_string(gauss_other_segment) + ". Violated constraint: gauss_other_segment >= 0");
-  if (!(object_sigma_m > 0)) return fail("object_sigma_m = " + std::to_string(object_sigma_m) + ". Violated constraint: object_sigma_m > 0");
-  if (burn_in_sweeps < 0) return fail("burn_in_sweeps = " + std::to_string(burn_in_sweeps) + ". Violated constraint: burn_in_sweeps >= 0");
-  if (sample_sweeps < 1) return fail("sample_sweeps = " + std::to_string(sample_sweeps) + ". Violated constraint: sample_sweeps >= 1");
-  if (!(min_split_area_m2 >= 0))
-    return fail("min_split_area_m2 = " + std::to_string(min_split_area_m2) + ". Violated constraint: min_split_area_m2 >= 0");
-  if (!(min_split_fraction >= 0 && min_split_fraction <= 1))
-    return fail("min_split_fraction = " + std::to_string(min_split_fraction) + ". Violated constraint: 0 <= min_split_fraction <= 1");
-  if (!(shape_weight >= 0)) return fail("shape_weight = " + std::to_string(shape_weight) + ". Violated constraint: shape_weight >= 0");
-  if (!(min_split_probability >= 0 && min_split_probability <= 1))
-    return fail("min_split_probability = " + std::to_string(min_split_probability) +
-                ". Violated constraint: 0 <= min_split_probability <= 1");
-  return true;
-}
+bool RoomTypeCrfOptions::Check(std::string* error) const { return CheckOptions(*this, Options(), error); }
 
 Image<uint16_t> ProjectViewCones(const FloorPlan& plan, const std::vector<ViewRoomEvidence>& views) {
   Image<uint16_t> count(plan.width(), plan.height(), 1, 0);

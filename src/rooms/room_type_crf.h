@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/option_table.h"
 #include "core/status.h"
 #include "rooms/floor_plan.h"
 #include "rooms/room_segmentation.h"
@@ -74,6 +75,19 @@ struct RoomTypeVariant {
   HomogeneityPotential homogeneity = HomogeneityPotential::kGaussian;
   bool objects = true;
   std::string Name() const;
+
+  // The terms users choose (section `room_types`).
+  static const OptionTable<RoomTypeVariant>& Options() {
+    using O = RoomTypeVariant;
+    static const OptionTable<O> table = {
+        OptionChoice(&O::scene, "scene", {"cnn", "conf"}, ParseScenePotential,
+                     "scene potential: cnn (Eq. 2, s_y) or conf (Eq. 3, with the training confusion)"),
+        OptionChoice(&O::homogeneity, "homogeneity", {"none", "stat", "gauss"}, ParseHomogeneityPotential,
+                     "homogeneity potential (Eq. 6-7): none, stat (learned distance statistics) or gauss (fixed costs x Gaussian)"),
+        OptionNumber(&O::objects, "objects", 0, 1, "", "object-occurrence potential (Eq. 4-5): 1 on, 0 off"),
+    };
+    return table;
+  }
 };
 
 // Weights of Eq. 1: w_c, w_obj (4), w_hom.
@@ -119,24 +133,50 @@ struct RoomTypeCrfOptions {
   RoomTypeVariant variant;              // Terms of Eq. 1 (default: conf + gauss + obj, the paper's best).
   std::string model_path;               // Model file (the caller's: `semvox run` gives <models>/room_type_crf.json).
   std::string shape_model_path;         // Room-shape model (<models>/room_shape.json); empty = rooms typed without their shapes.
-  double cell_size_m = 0.25;            // CRF node size, metres. > 0.
-  double max_pair_distance_m = 3.0;     // Homogeneity pairs up to this far apart, metres. > 0.
-  double gauss_sigma_m = 1.0;           // phi_gauss kernel width, metres. > 0.
-  double gauss_same_segment = 1.0;      // phi_gauss: reward for equal types within one segment (the cost of
-                                        // different types is its negative). >= 0.
-  double gauss_other_segment = 0.1;     // ... for a pair in different segments. >= 0.
-  double object_sigma_m = 1.5;          // Reach of an object's evidence (Eq. 5 o_i), metres. > 0.
-  int burn_in_sweeps = 20;              // Gibbs sweeps discarded. >= 0.
-  int sample_sweeps = 100;              // Gibbs sweeps counted into the marginals. >= 1.
+  double cell_size_m = 0.25;
+  double max_pair_distance_m = 3.0;
+  double gauss_sigma_m = 1.0;
+  double gauss_same_segment = 1.0;      // The cost of different types in one segment is its negative.
+  double gauss_other_segment = 0.1;
+  double object_sigma_m = 1.5;          // Eq. 5 o_i.
+  int burn_in_sweeps = 20;
+  int sample_sweeps = 100;
   uint64_t seed = 1;                    // Gibbs sampling order and draws.
-  double min_split_area_m2 = 4.0;       // A room is split only off areas this large, m². >= 0.
-  double min_split_fraction = 0.25;     // ... covering this fraction of the room, [0, 1].
-  double min_split_probability = 0.5;   // ... whose mean marginal of their type is at least this. [0, 1].
+  double min_split_area_m2 = 4.0;
+  double min_split_fraction = 0.25;
+  double min_split_probability = 0.5;
   // Room shapes (room_shape.h): every node's unary gains shape_weight x its room's log-likelihood ratios
-  // under the room-shape model learnt from real plans (phi_shape, next to the scene and object terms).
-  // 0 = off. >= 0.
+  // under the room-shape model (phi_shape, next to the scene and object terms).
   double shape_weight = 0.5;
 
+  // The fields users set (section `room_types`): meaning, unit and range.
+  static const OptionTable<RoomTypeCrfOptions>& Options() {
+    using O = RoomTypeCrfOptions;
+    static const OptionTable<O> table = JoinOptions<O>({
+        NestedOptions(&O::variant, RoomTypeVariant::Options()),
+        {
+            OptionNumber(&O::cell_size_m, "cell_size_m", 0.05, 5, "metres", "CRF node size"),
+            OptionNumber(&O::max_pair_distance_m, "max_pair_distance_m", 0.1, 50, "metres",
+                         "homogeneity pairs up to this far apart"),
+            OptionNumber(&O::gauss_sigma_m, "gauss_sigma_m", 0.01, 50, "metres", "phi_gauss kernel width"),
+            OptionNumber(&O::gauss_same_segment, "gauss_same_segment", 0, 100, "",
+                         "phi_gauss: reward for equal types in one segment"),
+            OptionNumber(&O::gauss_other_segment, "gauss_other_segment", 0, 100, "", "phi_gauss: ... in different segments"),
+            OptionNumber(&O::object_sigma_m, "object_sigma_m", 0.01, 50, "metres", "reach of an object's evidence"),
+            OptionNumber(&O::burn_in_sweeps, "burn_in_sweeps", 0, 100000, "", "Gibbs sweeps discarded"),
+            OptionNumber(&O::sample_sweeps, "sample_sweeps", 1, 1000000, "", "Gibbs sweeps counted into the marginals"),
+            OptionNumber(&O::seed, "seed", 0, 4294967295.0, "", "seed of the Gibbs sampler"),
+            OptionNumber(&O::min_split_area_m2, "min_split_area_m2", 0, 10000, "m2",
+                         "a room is split only off areas this large"),
+            OptionNumber(&O::min_split_fraction, "min_split_fraction", 0, 1, "", "... covering this fraction of the room"),
+            OptionNumber(&O::min_split_probability, "min_split_probability", 0, 1, "",
+                         "... whose mean marginal of their type is at least this"),
+            OptionNumber(&O::shape_weight, "shape_weight", 0, 10, "",
+                         "weight of the room-shape evidence learnt from real plans (models/room_shape.json), 0 = off"),
+        },
+    });
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

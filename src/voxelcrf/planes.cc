@@ -9,15 +9,13 @@
 namespace semvox {
 
 bool PlaneDetectionOptions::Check(std::string* error) const {
+  if (!CheckOptions(*this, Options(), error)) return false;
   auto fail = [&](const std::string& what) {
     if (error) *error = what;
     return false;
   };
-  if (!(normal_angle_deg > 0 && normal_angle_deg <= 45))
-    return fail("normal_angle_deg = " + std::to_string(normal_angle_deg) + ". Violated constraint: 0 < normal_angle_deg <= 45");
   if (!(offset_tolerance_voxels > 0))
     return fail("offset_tolerance_voxels = " + std::to_string(offset_tolerance_voxels) + ". Violated constraint: > 0");
-  if (min_voxels < 3) return fail("min_voxels = " + std::to_string(min_voxels) + ". Violated constraint: >= 3");
   if (max_planes < 0) return fail("max_planes = " + std::to_string(max_planes) + ". Violated constraint: >= 0");
   if (gap_cells < 0) return fail("gap_cells = " + std::to_string(gap_cells) + ". Violated constraint: >= 0");
   return true;

@@ -11,17 +11,28 @@
 #include <Eigen/Core>
 #include <string>
 #include <vector>
+#include "core/option_table.h"
 #include "core/voxel_grid.h"
 #include "voxelcrf/voxel_evidence.h"
 
 namespace semvox {
 
 struct PlaneDetectionOptions {
-  double normal_angle_deg = 12.0;      // Voxels whose normal is within this of a direction vote for it. (0, 45].
+  double normal_angle_deg = 12.0;      // Voxels whose normal is within this of a direction vote for it.
   double offset_tolerance_voxels = 0.75;  // Inliers lie within this of the plane, in voxel sizes. > 0.
-  int min_voxels = 60;                 // Smallest plane piece, voxels. >= 3.
+  int min_voxels = 60;
   int max_planes = 400;                // Most plane pieces kept (largest first). >= 0.
   int gap_cells = 1;                   // Pieces join across gaps up to this many cells in the plane. >= 0.
+
+  // The fields users set (section `semantic`): meaning, unit and range.
+  static const OptionTable<PlaneDetectionOptions>& Options() {
+    using O = PlaneDetectionOptions;
+    static const OptionTable<O> table = {
+        OptionNumber(&O::min_voxels, "min_voxels", 3, 1000000, "voxels", "smallest plane piece"),
+        OptionNumber(&O::normal_angle_deg, "normal_angle_deg", 0.1, 45, "degrees", "plane detection: normal tolerance"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

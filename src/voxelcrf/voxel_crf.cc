@@ -141,19 +141,7 @@ Result<VoxelCrfModel> VoxelCrfModel::Load(const std::string& path) {
 }
 
 bool VoxelCrfOptions::Check(std::string* error) const {
-  auto fail = [&](const std::string& what) {
-    if (error) *error = what;
-    return false;
-  };
-  if (max_iterations < 1 || max_iterations > 50) return fail("max_iterations = " + std::to_string(max_iterations) + ". Violated constraint: 1 <= max_iterations <= 50");
-  if (!(plane_truncation > 0 && plane_truncation <= 0.5)) return fail("plane_truncation = " + std::to_string(plane_truncation) + ". Violated constraint: 0 < plane_truncation <= 0.5");
-  if (!(object_truncation > 0 && object_truncation <= 0.5)) return fail("object_truncation = " + std::to_string(object_truncation) + ". Violated constraint: 0 < object_truncation <= 0.5");
-  if (!(visibility_min_progress >= 0 && visibility_min_progress <= 1))
-    return fail("visibility_min_progress = " + std::to_string(visibility_min_progress) + ". Violated constraint: 0 <= visibility_min_progress <= 1");
-  if (!(visibility_tolerance >= 0 && visibility_tolerance <= 1))
-    return fail("visibility_tolerance = " + std::to_string(visibility_tolerance) + ". Violated constraint: 0 <= visibility_tolerance <= 1");
-  if (min_object_voxels < 2) return fail("min_object_voxels = " + std::to_string(min_object_voxels) + ". Violated constraint: >= 2");
-  return planes.Check(error) && solver.Check(error);
+  return CheckOptions(*this, Options(), error) && planes.Check(error) && solver.Check(error);
 }
 
 // ---------------------------------------------------------------------------------------------------------

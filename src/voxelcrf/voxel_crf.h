@@ -42,6 +42,7 @@
 #include <cstdint>
 #include <string>
 #include <vector>
+#include "core/option_table.h"
 #include "core/status.h"
 #include "core/voxel_grid.h"
 #include "crf/energy.h"
@@ -100,19 +101,18 @@ struct VoxelCrfModel {
 };
 
 struct VoxelCrfOptions {
-  int max_iterations = 5;            // Alg. 1 iterations at most. [1, 50].
-  double visibility_tolerance = 0.005;  // Stop once fewer than this fraction of rays change their visible voxel. [0, 1].
-  double visibility_min_progress = 0.25;  // Stop too when an iteration moves more than (1 - this) times the rays the
-                                          // previous one moved (the visibility oscillates instead of settling). [0, 1].
+  int max_iterations = 5;
+  double visibility_tolerance = 0.005;
+  double visibility_min_progress = 0.25;  // For a visibility that oscillates instead of settling.
   bool use_pairwise = true;          // U+PW (false: U only).
   bool use_higher_order = true;      // U+PW+G (planes and objects).
-  double plane_truncation = 0.25;    // Q / clique size for planes. (0, 0.5].
-  double object_truncation = 0.25;   // Q / clique size for object segments. (0, 0.5].
-  int min_object_voxels = 20;        // Smallest object segment that gets a clique. >= 2.
-  // Voxels that hold a point of the input cloud (VoxelCrfNodes::holds_point) stay occupied: the CRF chooses
-  // their label but may not empty them. The scan saw a surface there; without this a sparse real cloud
-  // (one point per voxel or fewer) loses about half of its surface voxels, furniture first, because its
-  // depth and density evidence is weak. Disc-splat voxels without a point may still be emptied.
+  double plane_truncation = 0.25;
+  double object_truncation = 0.25;
+  int min_object_voxels = 20;
+  // Voxels that hold a point of the input cloud (VoxelCrfNodes::holds_point): the scan saw a surface there;
+  // without this a sparse real cloud (one point per voxel or fewer) loses about half of its surface voxels,
+  // furniture first, because its depth and density evidence is weak. Disc-splat voxels without a point may
+  // still be emptied.
   bool keep_scan_points = true;
   PlaneDetectionOptions planes;
   // Sweeps after the first lower the Voxel-CRF energy by 1e-4 - 1e-7 of |E| on generated apartments, and the
@@ -122,6 +122,31 @@ struct VoxelCrfOptions {
     o.min_sweep_improvement = 1e-5;
     return o;
   }();
+
+  // The fields users set (section `semantic`): meaning, unit and range.
+  static const OptionTable<VoxelCrfOptions>& Options() {
+    using O = VoxelCrfOptions;
+    static const OptionTable<O> table = JoinOptions<O>({
+        {
+            OptionNumber(&O::max_iterations, "max_iterations", 1, 50, "", "Voxel-CRF iterations (Alg. 1) at most"),
+            OptionNumber(&O::visibility_tolerance, "visibility_tolerance", 0, 1, "",
+                         "Alg. 1 stops once fewer than this fraction of rays change their visible voxel"),
+            OptionNumber(&O::visibility_min_progress, "visibility_min_progress", 0, 1, "",
+                         "Alg. 1 also stops when an iteration moves more than (1 - this) times the rays the previous one moved"),
+            OptionNumber(&O::plane_truncation, "plane_truncation", 0.001, 0.5, "",
+                         "Robust P^n truncation Q of plane cliques, fraction of the clique"),
+            OptionNumber(&O::object_truncation, "object_truncation", 0.001, 0.5, "",
+                         "Robust P^n truncation Q of object cliques, fraction of the clique"),
+            OptionNumber(&O::min_object_voxels, "min_object_voxels", 2, 1000000, "voxels",
+                         "smallest object segment with a clique"),
+            OptionSwitch(&O::keep_scan_points, "keep_scan_points",
+                         "point clouds: voxels holding an input point stay occupied (the Voxel-CRF labels them but "
+                         "does not empty them)"),
+        },
+        NestedOptions(&O::planes, PlaneDetectionOptions::Options()),
+    });
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

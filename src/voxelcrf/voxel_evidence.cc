@@ -9,18 +9,7 @@
 
 namespace semvox {
 
-bool VoxelEvidenceOptions::Check(std::string* error) const {
-  auto fail = [&](const std::string& what) {
-    if (error) *error = what;
-    return false;
-  };
-  if (!(depth_sigma_voxels > 0)) return fail("depth_sigma_voxels = " + std::to_string(depth_sigma_voxels) + ". Violated constraint: > 0");
-  if (!(completion_band_m >= 0)) return fail("completion_band_m = " + std::to_string(completion_band_m) + ". Violated constraint: >= 0");
-  if (interior_margin_cells < 0) return fail("interior_margin_cells = " + std::to_string(interior_margin_cells) + ". Violated constraint: >= 0");
-  if (ray_stride < 1 || ray_stride > 64) return fail("ray_stride = " + std::to_string(ray_stride) + ". Violated constraint: 1 <= ray_stride <= 64");
-  if (!(ray_extension_m >= 0)) return fail("ray_extension_m = " + std::to_string(ray_extension_m) + ". Violated constraint: >= 0");
-  return true;
-}
+bool VoxelEvidenceOptions::Check(std::string* error) const { return CheckOptions(*this, Options(), error); }
 
 size_t VoxelCrfNodes::count_state(VoxelState s) const {
   return size_t(std::count(initial_state.begin(), initial_state.end(), uint8_t(s)));

@@ -32,6 +32,7 @@
 #include <span>
 #include <string>
 #include <vector>
+#include "core/option_table.h"
 #include "core/image.h"
 #include "core/voxel_grid.h"
 #include "render/view_renderer.h"
@@ -39,11 +40,27 @@
 namespace semvox {
 
 struct VoxelEvidenceOptions {
-  double depth_sigma_voxels = 1.0;      // sigma of f_s, in voxel sizes. > 0.
-  double completion_band_m = 0.25;      // Unknown voxels this close to an occupied voxel become nodes, metres. >= 0.
-  int interior_margin_cells = 2;        // Columns within this many cells of a free column count as inside. >= 0.
-  int ray_stride = 2;                   // Classified views: one ray per ray_stride x ray_stride pixels. [1, 64].
-  double ray_extension_m = 0.5;         // A ray may find its visible voxel this far behind the observed hit, metres. >= 0.
+  double depth_sigma_voxels = 1.0;
+  double completion_band_m = 0.25;  // Those unknown voxels become nodes.
+  int interior_margin_cells = 2;
+  int ray_stride = 2;
+  double ray_extension_m = 0.5;
+
+  // The fields users set (section `semantic`): meaning, unit and range.
+  static const OptionTable<VoxelEvidenceOptions>& Options() {
+    using O = VoxelEvidenceOptions;
+    static const OptionTable<O> table = {
+        OptionNumber(&O::depth_sigma_voxels, "depth_sigma_voxels", 0.01, 100, "voxel sizes", "sigma of the depth term f_s"),
+        OptionNumber(&O::completion_band_m, "completion_band_m", 0, 5, "metres",
+                     "unknown voxels this close to an occupied voxel can be completed"),
+        OptionNumber(&O::interior_margin_cells, "interior_margin_cells", 0, 100, "cells",
+                     "columns this close to a free column count as inside"),
+        OptionNumber(&O::ray_stride, "ray_stride", 1, 64, "", "one classification ray per ray_stride x ray_stride pixels"),
+        OptionNumber(&O::ray_extension_m, "ray_extension_m", 0, 10, "metres",
+                     "a ray's visible voxel may lie this far behind its observed hit"),
+    };
+    return table;
+  }
   bool Check(std::string* error) const;
 };
 

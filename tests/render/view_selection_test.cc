@@ -123,7 +123,7 @@ TEST(ViewSelectionOptions, CheckNamesFieldValueAndConstraint) {
   EXPECT_TRUE(o.Check(&error));
   o.min_views_per_voxel = 0;
   EXPECT_FALSE(o.Check(&error));
-  EXPECT_EQ(error, "min_views_per_voxel = 0. Violated constraint: 1 <= min_views_per_voxel <= 100");
+  EXPECT_EQ(error, "min_views_per_voxel = 0 is out of range [1, 100]");
   o = {};
   o.max_incidence_deg = 95;
   EXPECT_FALSE(o.Check(&error));
