@@ -251,11 +251,7 @@ Status RunTrain(const TrainArgs& args) {
   std::vector<uint64_t> room_row_seeds;  // Apartment of each row (room-type CRF: leave-one-apartment-out k-NN).
   std::vector<RoomViewRecord> room_records;  // Classified views of the CRF seeds (room-type CRF training).
   auto add_room_row = [&](const LabelledView& v) {
-    if (v.room_type < 1 || v.room_type > kNumRoomTypeClasses) return;
-    const std::vector<float> d = RoomViewDescriptor(*v.view, room_level.Map(*v.nyu40), room_level.num_classes());
-    room_rows.insert(room_rows.end(), d.begin(), d.end());
-    room_labels.push_back(v.room_type - 1);
-    room_row_seeds.push_back(v.seed);
+    if (AddRoomKnnRow(v, room_level.Map(*v.nyu40), room_level.num_classes(), &room_rows, &room_labels)) room_row_seeds.push_back(v.seed);
   };
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<uint64_t> crf_seeds(train_seeds.end() - args.crf_holdout, train_seeds.end());

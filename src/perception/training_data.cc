@@ -231,13 +231,12 @@ Status ForEachApartmentView(uint64_t seed, const TrainingViewsOptions& options,
   return ForEachViewOfApartment(*apartment, seed, options, sink);
 }
 
-Status ForEachViewOfApartment(const Apartment& apartment_ref, uint64_t seed, const TrainingViewsOptions& options,
+Status ForEachViewOfApartment(const Apartment& apartment, uint64_t seed, const TrainingViewsOptions& options,
                               const std::function<Status(const LabelledView&)>& sink) {
   std::string error;
   if (!options.Check(&error)) return Status::InvalidInput("training views: " + error);
-  const Apartment* apartment = &apartment_ref;
   const bool randomised = options.style == TrainingStyle::kRandomised;
-  Result<Scene> scan = MakeTrainingScan(*apartment, seed, options);
+  Result<Scene> scan = MakeTrainingScan(apartment, seed, options);
   if (!scan.ok()) return scan.status();
   Scene scene = std::move(scan).value();
   const char* per_element = scene.is_mesh() ? "face" : "point";
@@ -256,20 +255,20 @@ Status ForEachViewOfApartment(const Apartment& apartment_ref, uint64_t seed, con
   const PinholeCamera camera = PinholeCamera::FromHorizontalFov(options.width, options.height, options.horizontal_fov_deg);
   const uint64_t scene_seed = rng.Next();
   ViewAugmentationOptions augmentation = options.augmentation;
-  augmentation.floor_z_m = apartment->floor_z_m;
+  augmentation.floor_z_m = apartment.floor_z_m;
   augmentation.repaint_surfaces = scene.is_mesh();  // Clouds were repainted in 3D (MakeTrainingScan).
   RenderedView view;
   Image<int32_t> nyu40, surface;
-  for (const RoomGt& room : apartment->rooms) {
+  for (const RoomGt& room : apartment.rooms) {
+    const Eigen::Vector2d middle = RoomViewpoint(apartment, room);
     for (int h = 0; h < options.yaws_per_room; ++h) {
-      const Eigen::Vector2d middle = RoomViewpoint(*apartment, room);
-      Eigen::Vector3d eye(middle.x(), middle.y(), apartment->floor_z_m + options.eye_height_m);
+      Eigen::Vector3d eye(middle.x(), middle.y(), apartment.floor_z_m + options.eye_height_m);
       double yaw = 360.0 * h / options.yaws_per_room, pitch = options.pitch_deg;
       if (randomised) {
         eye.x() += options.position_jitter * 0.5 * (room.x1 - room.x0) * rng.Uniform(-1, 1);
         eye.y() += options.position_jitter * 0.5 * (room.y1 - room.y0) * rng.Uniform(-1, 1);
         eye.z() += rng.Uniform(-options.eye_height_jitter_m, options.eye_height_jitter_m);
-        eye.z() = std::min(eye.z(), apartment->ceiling_z_m - 0.2);
+        eye.z() = std::min(eye.z(), apartment.ceiling_z_m - 0.2);
         yaw += rng.Uniform(0, 360.0 / options.yaws_per_room);
         pitch += rng.Uniform(-options.pitch_jitter_deg, options.pitch_jitter_deg);
       }

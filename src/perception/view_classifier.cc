@@ -80,6 +80,18 @@ Result<ViewClassifier> ViewClassifier::Train(const TrainingSet& set, int num_cla
   return ViewClassifier(std::move(image).value(), std::move(full).value(), options);
 }
 
+void ViewClassifier::KnnUnaries(const ViewObservations& observations, std::vector<std::vector<double>>* f1,
+                                std::vector<std::vector<double>>* f2) const {
+  const size_t n = observations.superpixels.size();
+  f1->assign(n, {});
+  f2->assign(n, {});
+  for (size_t s = 0; s < n; ++s) {
+    const SuperpixelObservation& o = observations.superpixels[s];
+    if (o.has_depth) (*f2)[s] = full_knn_.Probabilities({o.z.data(), size_t(kObservationDims)});
+    else (*f1)[s] = (*f2)[s] = image_knn_.Probabilities({o.z.data(), size_t(kImageObservationDims)});
+  }
+}
+
 Result<ViewClassification> ViewClassifier::Classify(const RenderedView& view) const {
   Result<Superpixels> sp = ComputeSuperpixels(view.rgb, options_.superpixels);
   if (!sp.ok()) return sp.status();
@@ -95,17 +107,12 @@ Result<ViewClassification> ViewClassifier::Classify(Superpixels superpixels, Vie
   out.superpixels = std::move(superpixels);
   out.observations = std::move(observations);
   const size_t n = out.observations.superpixels.size();
-  std::vector<std::vector<double>> f1(n), f2(n);
-  out.knn.resize(n);
+  std::vector<std::vector<double>> f1, f2;
+  KnnUnaries(out.observations, &f1, &f2);
+  out.knn = f2;  // f2 with depth, f1 without.
   out.knn_labels.resize(n);
-  for (size_t s = 0; s < n; ++s) {
-    const SuperpixelObservation& o = out.observations.superpixels[s];
-    // f1 (image features only) is read for superpixels without depth alone: the CRFs take f2 where there is depth.
-    if (o.has_depth) f2[s] = full_knn_.Probabilities({o.z.data(), size_t(kObservationDims)});
-    else f1[s] = f2[s] = image_knn_.Probabilities({o.z.data(), size_t(kImageObservationDims)});
-    out.knn[s] = o.has_depth ? f2[s] : f1[s];
+  for (size_t s = 0; s < n; ++s)
     out.knn_labels[s] = int(std::max_element(out.knn[s].begin(), out.knn[s].end()) - out.knn[s].begin());
-  }
   // Tree CRF: f on every node (f2 with depth, f1 without), Eq. 6 colour pairwise on the 3D MST.
   Result<PairwiseModel> tree = BuildViewCrf(out.observations, BuildTreeGraph(out.observations), out.knn, {}, false, options_.crf);
   if (!tree.ok()) return tree.status();
@@ -159,16 +166,10 @@ Status ViewClassifier::CrfTrainingGraphs(const Superpixels& superpixels, const V
                                          CrfTrainingGraph* union_graph) const {
   const size_t n = observations.superpixels.size();
   if (int(n) != superpixels.count) return Status::InvalidInput("CRF training graphs: observations do not match the superpixels");
-  std::vector<std::vector<double>> f1(n), f2(n), f(n);
-  for (size_t s = 0; s < n; ++s) {
-    const SuperpixelObservation& o = observations.superpixels[s];
-    // f1 (image features only) is read for superpixels without depth alone: the CRFs take f2 where there is depth.
-    if (o.has_depth) f2[s] = full_knn_.Probabilities({o.z.data(), size_t(kObservationDims)});
-    else f1[s] = f2[s] = image_knn_.Probabilities({o.z.data(), size_t(kImageObservationDims)});
-    f[s] = f2[s];
-  }
+  std::vector<std::vector<double>> f1, f2;
+  KnnUnaries(observations, &f1, &f2);
   const std::vector<int> labels = SuperpixelClasses(superpixels, pixel_classes, options_.min_label_purity);
-  *tree = MakeCrfTrainingGraph(observations, BuildTreeGraph(observations), f, {}, false, options_.crf, labels);
+  *tree = MakeCrfTrainingGraph(observations, BuildTreeGraph(observations), f2, {}, false, options_.crf, labels);
   *union_graph = MakeCrfTrainingGraph(observations, BuildUnionCoverageGraph(observations), f2, f1, true, options_.union_crf, labels);
   return Status::Ok();
 }

@@ -99,6 +99,10 @@ class ViewClassifier {
  private:
   ViewClassifier(KnnClassifier image_knn, KnnClassifier full_knn, ViewClassifierOptions options)
       : image_knn_(std::move(image_knn)), full_knn_(std::move(full_knn)), options_(std::move(options)) {}
+  // The k-NN unaries of every superpixel: f2 from the image + 3D features where it has depth, else f2 = f1 from
+  // the image features alone; f1 is left empty where there is depth (the CRFs read it only where there is none).
+  void KnnUnaries(const ViewObservations& observations, std::vector<std::vector<double>>* f1,
+                  std::vector<std::vector<double>>* f2) const;
   KnnClassifier image_knn_, full_knn_;
   ViewClassifierOptions options_;
 };

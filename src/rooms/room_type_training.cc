@@ -123,6 +123,15 @@ ObjectRoomCounts CountApartmentObjects(const Apartment& a) {
   return c;
 }
 
+bool AddRoomKnnRow(const LabelledView& view, const Image<int32_t>& classes, int num_classes, std::vector<float>* x,
+                   std::vector<int>* y) {
+  if (view.room_type < 1 || view.room_type > kNumRoomTypeClasses) return false;
+  const std::vector<float> d = RoomViewDescriptor(*view.view, classes, num_classes);
+  x->insert(x->end(), d.begin(), d.end());
+  y->push_back(view.room_type - 1);
+  return true;
+}
+
 Result<RoomKnnRows> RoomTypeKnnRows(const std::vector<uint64_t>& seeds, const std::vector<std::string>& plans,
                                     const ViewClassifier* classifier) {
   const LabelLevel level = SecondLevel();
@@ -136,7 +145,7 @@ Result<RoomKnnRows> RoomTypeKnnRows(const std::vector<uint64_t>& seeds, const st
   std::vector<Unit> units(seeds.size() + plans.size());
   auto add = [&](Unit* u) {
     return [&level, classifier, u](const LabelledView& v) {
-      if (v.room_type < 1 || v.room_type > kNumRoomTypeClasses) return Status::Ok();
+      if (v.room_type < 1 || v.room_type > kNumRoomTypeClasses) return Status::Ok();  // Before classifying.
       Image<int32_t> classes;
       if (classifier) {
         Result<ViewClassification> c = classifier->Classify(*v.view);
@@ -145,9 +154,7 @@ Result<RoomKnnRows> RoomTypeKnnRows(const std::vector<uint64_t>& seeds, const st
       } else {
         classes = level.Map(*v.nyu40);
       }
-      const std::vector<float> d = RoomViewDescriptor(*v.view, classes, level.num_classes());
-      u->x.insert(u->x.end(), d.begin(), d.end());
-      u->y.push_back(v.room_type - 1);
+      AddRoomKnnRow(v, classes, level.num_classes(), &u->x, &u->y);
       return Status::Ok();
     };
   };
