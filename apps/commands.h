@@ -166,7 +166,7 @@ Status RunReport(const ReportArgs& args);
 std::string LabelsMarkdown();
 Status RunLabels();
 
-// ---- remove (apps/remove_command.cc; src/voxelcrf/object_removal.h) ----
+// ---- remove (apps/remove_command.cc; src/pipeline/object_removal_stage.h) ----
 struct RemoveArgs {
   std::string outdir;                // OUTDIR of a `semvox run` (voxels.ply, map.ot, summary.json).
   std::string output;                // OUT2: where the edited map goes (must differ from OUTDIR).
