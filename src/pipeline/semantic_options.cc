@@ -14,9 +14,8 @@ const char* ClassifyViewSelectionName(ClassifyViewSelection s) {
                                                            : "auto";
 }
 
-ClassifyViewSelection ResolveViewSelection(ClassifyViewSelection s, const Scene& scene) {
-  if (s != ClassifyViewSelection::kAuto) return s;
-  return scene.is_mesh() ? ClassifyViewSelection::kCover : ClassifyViewSelection::kAllObjectsOnCover;
+ClassifyViewSelection ResolveViewSelection(ClassifyViewSelection s, const Scene&) {
+  return s == ClassifyViewSelection::kAuto ? ClassifyViewSelection::kCover : s;
 }
 
 const char* VoxelCrfModelChoiceName(VoxelCrfModelChoice c) {

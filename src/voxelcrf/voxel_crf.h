@@ -115,11 +115,12 @@ struct VoxelCrfOptions {
   // still be emptied.
   bool keep_scan_points = true;
   PlaneDetectionOptions planes;
-  // Sweeps after the first lower the Voxel-CRF energy by 1e-4 - 1e-7 of |E| on generated apartments, and the
-  // last one only confirms that no move is left: stop once a sweep gains less than 1e-5 of |E|.
+  // Sweeps after the first lower the Voxel-CRF energy by 1e-4 - 1e-7 of |E| on generated apartments: stop once
+  // a sweep gains less than 1e-3 of |E| (the 91 m2 flat of seed 106: the second sweep gains 2e-4, a third
+  // 3e-6 and moves 3 of 238,000 voxels, at a third of the solver's time).
   AlphaExpansionOptions solver = [] {
     AlphaExpansionOptions o;
-    o.min_sweep_improvement = 1e-5;
+    o.min_sweep_improvement = 1e-3;
     return o;
   }();
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <deque>
 
 namespace semvox {
@@ -166,6 +167,38 @@ void EvidenceAccumulator::AddDepthView(const RenderedView& view) {
   Eigen::Vector3f planes[4] = {Eigen::Vector3f(fx, 0, cx), Eigen::Vector3f(-fx, 0, float(W) - cx),
                                Eigen::Vector3f(0, fy, cy), Eigen::Vector3f(0, -fy, float(H) - cy)};
   for (auto& p : planes) p.normalize();
+  // Occlusion culling: the deepest observed depth of each kTile x kTile pixel tile (-1 where no pixel has
+  // depth). A block whose nearest point lies more than `cutoff` behind the deepest surface of every tile its
+  // bounding box projects to holds only nodes the loop below would skip (occluded or unobserved), so it is
+  // skipped whole: the sums are exactly those of visiting it.
+  constexpr int kTile = 16;
+  const int tw = (W + kTile - 1) / kTile, th = (H + kTile - 1) / kTile;
+  tile_max_depth_.assign(size_t(tw) * size_t(th), -1.0f);
+  tbb::parallel_for(tbb::blocked_range<int>(0, th), [&](const tbb::blocked_range<int>& r) {
+    for (int ty = r.begin(); ty < r.end(); ++ty)
+      for (int y = ty * kTile; y < std::min(H, (ty + 1) * kTile); ++y)
+        for (int x = 0; x < W; ++x) {
+          const float dm = view.depth.at(x, y);
+          float& m = tile_max_depth_[size_t(ty) * size_t(tw) + size_t(x / kTile)];
+          if (dm > 0 && dm > m) m = dm;
+        }
+  });
+  // The deepest surface over the pixels a block (centre c, radius rad, camera frame) can project to; +inf
+  // when the bound is not tight (the block reaches the camera plane).
+  const auto deepest_behind = [&](const Eigen::Vector3f& c, float rad) {
+    const float z_near = c.z() - rad, z_far = c.z() + rad;
+    if (z_near <= 1e-3f) return std::numeric_limits<float>::infinity();
+    // x / z over the box around the sphere: largest at (x_max, z_near) when x_max >= 0, else (x_max, z_far).
+    const float x0 = c.x() - rad, x1 = c.x() + rad, y0 = c.y() - rad, y1 = c.y() + rad;
+    const float u0 = fx * (x0 / (x0 <= 0 ? z_near : z_far)) + cx, u1 = fx * (x1 / (x1 >= 0 ? z_near : z_far)) + cx;
+    const float v0 = fy * (y0 / (y0 <= 0 ? z_near : z_far)) + cy, v1 = fy * (y1 / (y1 >= 0 ? z_near : z_far)) + cy;
+    const int ta = std::max(0, int(std::floor(u0)) - 1) / kTile, tb = std::min(W - 1, int(std::floor(u1)) + 1) / kTile;
+    const int sa = std::max(0, int(std::floor(v0)) - 1) / kTile, sb = std::min(H - 1, int(std::floor(v1)) + 1) / kTile;
+    float deepest = -1.0f;
+    for (int ty = sa; ty <= sb; ++ty)
+      for (int tx = ta; tx <= tb; ++tx) deepest = std::max(deepest, tile_max_depth_[size_t(ty) * size_t(tw) + size_t(tx)]);
+    return deepest;
+  };
   const size_t num_blocks = nodes_.block_centre.size();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, num_blocks, 16), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b) {
@@ -175,6 +208,8 @@ void EvidenceAccumulator::AddDepthView(const RenderedView& view) {
       bool outside = false;
       for (const auto& p : planes) outside |= p.dot(c) < -rad;
       if (outside) continue;
+      const float deepest = deepest_behind(c, rad);
+      if (deepest < 0 || c.z() - rad - deepest > cutoff) continue;
       for (uint32_t i = nodes_.block_begin[b]; i < nodes_.block_begin[b + 1]; ++i) {
         const auto cell = grid_.Cell(nodes_.voxel[i]);
         const Eigen::Vector3f p = R * grid_.CellCenter(cell[0], cell[1], cell[2]).cast<float>() + t;
@@ -204,14 +239,19 @@ void EvidenceAccumulator::AddDepthView(const RenderedView& view) {
         pixel_node_[size_t(y) * size_t(W) + size_t(x)] = node;
       }
   });
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      const int32_t node = pixel_node_[size_t(y) * size_t(W) + size_t(x)];
-      if (node < 0) continue;
-      ++ev_.hits[size_t(node)];
-      for (int k = 0; k < 3; ++k) colour_sum_[size_t(node)][size_t(k)] += float(view.rgb.at(x, y, k));
-      normal_sum_[size_t(node)] += Eigen::Vector3f(view.normal.at(x, y, 0), view.normal.at(x, y, 1), view.normal.at(x, y, 2));
-    }
+  // Each part owns the nodes of one residue class and walks all pixels in order, so every node's sums run
+  // over its pixels in pixel order, as one pass would, on both cores.
+  constexpr int kParts = 2;
+  tbb::parallel_for(0, kParts, [&](int part) {
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const int32_t node = pixel_node_[size_t(y) * size_t(W) + size_t(x)];
+        if (node < 0 || node % kParts != part) continue;
+        ++ev_.hits[size_t(node)];
+        for (int k = 0; k < 3; ++k) colour_sum_[size_t(node)][size_t(k)] += float(view.rgb.at(x, y, k));
+        normal_sum_[size_t(node)] += Eigen::Vector3f(view.normal.at(x, y, 0), view.normal.at(x, y, 1), view.normal.at(x, y, 2));
+      }
+  });
   ++ev_.num_depth_views;
 }
 

@@ -136,6 +136,7 @@ class EvidenceAccumulator {
   std::vector<std::array<float, 3>> colour_sum_;
   std::vector<Eigen::Vector3f> normal_sum_;
   std::vector<int32_t> pixel_node_;  // AddDepthView scratch: the node each pixel hits (-1: none).
+  std::vector<float> tile_max_depth_;  // AddDepthView scratch: the deepest depth of each pixel tile.
 };
 
 }  // namespace semvox

@@ -41,7 +41,7 @@ TEST(Config, ViewSelectionAutoResolvesByInputKind) {
   Scene cloud;
   cloud.mesh.vertices = mesh.mesh.vertices;
   EXPECT_EQ(ResolveViewSelection(ClassifyViewSelection::kAuto, mesh), ClassifyViewSelection::kCover);
-  EXPECT_EQ(ResolveViewSelection(ClassifyViewSelection::kAuto, cloud), ClassifyViewSelection::kAllObjectsOnCover);
+  EXPECT_EQ(ResolveViewSelection(ClassifyViewSelection::kAuto, cloud), ClassifyViewSelection::kCover);
   EXPECT_EQ(ResolveViewSelection(ClassifyViewSelection::kAll, cloud), ClassifyViewSelection::kAll);
   const Status st = ParseConfig("semantic:\n  view_selection: some\n", "c.yaml", &c);
   EXPECT_NE(st.message().find("all_objects_on_cover"), std::string::npos) << st.message();

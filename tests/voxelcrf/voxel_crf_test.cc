@@ -245,6 +245,62 @@ CabinetRoom MakeCabinetRoom() {
   return CabinetRoom{b.Take()};
 }
 
+// The depth evidence skips whole blocks of nodes that lie behind every surface a view sees (occlusion
+// culling); the counts and sums must be those of projecting every node into every view.
+TEST(VoxelEvidence, OcclusionCullingKeepsTheDepthEvidenceOfEveryNode) {
+  CabinetRoom room = MakeCabinetRoom();
+  const Scene scene = MeshScene(room.mesh);
+  const VoxelMap map = MapOf(scene);
+  const VoxelGrid& g = map.grid;
+  const VoxelEvidenceOptions eo;
+  const VoxelCrfNodes nodes = SelectVoxelCrfNodes(g, map.floor_z, map.ceiling_z, eo);
+  EvidenceAccumulator acc(g, nodes, 3, eo);
+  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
+  ASSERT_TRUE(renderer.ok());
+  ViewsOptions vo;
+  vo.width = 160;
+  vo.height = 120;
+  vo.tilted_ring_deg = 40;
+  std::vector<uint16_t> observing(nodes.size(), 0);
+  std::vector<double> sum_f(nodes.size(), 0.0);
+  size_t occluded = 0;
+  Result<ViewSet> views = RenderViews(*renderer, map, vo, [&](const ViewRecord& r, const RenderedView& view) {
+    if (!r.kept()) return Status::Ok();
+    acc.AddDepthView(view);
+    // Reference: every node projected into the view, no culling.
+    const Eigen::Isometry3d cfw = view.world_from_camera.inverse();
+    const double sigma = eo.depth_sigma_voxels * g.resolution();
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      const auto c = g.Cell(nodes.voxel[i]);
+      const Eigen::Vector3f p = (cfw.linear().cast<float>() * g.CellCenter(c[0], c[1], c[2]).cast<float>() + cfw.translation().cast<float>());
+      if (p.z() <= 1e-3f) continue;
+      const float u = float(view.camera.fx) * p.x() / p.z() + float(view.camera.cx), v = float(view.camera.fy) * p.y() / p.z() + float(view.camera.cy);
+      if (!(u >= 0 && u < float(view.camera.width) && v >= 0 && v < float(view.camera.height))) continue;
+      const float dm = view.depth.at(int(u), int(v));
+      if (dm <= 0) continue;
+      const double delta = double(p.z()) - double(dm);
+      if (delta > 1.5 * sigma) {
+        ++occluded;
+        continue;
+      }
+      ++observing[i];
+      sum_f[i] += std::exp(-delta * delta / (2 * sigma * sigma));
+    }
+    return Status::Ok();
+  });
+  ASSERT_TRUE(views.ok()) << views.status().message();
+  EXPECT_GT(occluded, nodes.size());  // The cabinet and the walls hide many nodes from many views.
+  const VoxelEvidence ev = std::move(acc).Finish();
+  size_t observed = 0;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    ASSERT_EQ(ev.observing_views[i], observing[i]) << "node " << i;
+    if (observing[i] == 0) continue;
+    ++observed;
+    EXPECT_NEAR(ev.depth_agreement[i], sum_f[i] / observing[i], 1e-4) << "node " << i;
+  }
+  EXPECT_GT(observed, nodes.size() / 4);
+}
+
 TEST(VoxelCrf, PlaneCompletionLabelsTheWallBehindACabinetAsWall) {
   CabinetRoom room = MakeCabinetRoom();
   const Scene scene = MeshScene(room.mesh);
