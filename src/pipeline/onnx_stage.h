@@ -4,8 +4,8 @@
 //   --scene-model X.onnx  --scene-labels X.tsv   [--scene-input 224x224]
 //   --object-model Y.onnx --object-labels Y.tsv  [--object-input 224x224]
 //
-// apps/main.cc calls LoadOnnxModels before RunPipeline and hands the models over in PipelineOptions::onnx, so a bad
-// path, model or label map stops the run with one error line (exit code 2) and no output. Per view, the
+// apps/main.cc calls LoadOnnxModels before RunPipeline and hands the models over in PipelineOptions::onnx, so
+// a bad path, model or label map stops the run with one error line (exit code 2) and no output. Per view, the
 // object model's PixelProbabilities replace the built-in classifier's per-pixel probabilities and the
 // scene model's RoomTypeProbabilities replace the room-type evidence:
 //
