@@ -8,11 +8,11 @@
 
 #include "apps/config.h"
 #include "core/status.h"
-#include "render/views.h"
+#include "pipeline/onnx_stage.h"
 
 namespace semvox {
 
-struct OnnxModels;  // apps/onnx_stage.h
+struct OnnxModels;  // pipeline/onnx_stage.h
 
 struct RunArgs {
   std::string input;
@@ -25,14 +25,14 @@ struct RunArgs {
   bool save_views = false;     // Also write PNG thumbnails of every view into OUTDIR/views/.
   std::string models_dir;      // Model files; empty: $SEMVOX_MODELS, else beside the binary (apps/models_dir.h).
   std::string argv0;           // The binary's argv[0]: finds the models when /proc/self/exe cannot be read.
-  // Optional ONNX backend (apps/onnx_stage.h): networks, label maps and input sizes ("WxH", "" = 224x224).
-  std::string scene_model, scene_labels, scene_input_size;
-  std::string object_model, object_labels, object_input_size;
-  std::shared_ptr<const OnnxModels> onnx;  // Loaded by main.cc before RunPipeline; null without ONNX flags.
+  // Optional ONNX backend (pipeline/onnx_stage.h): networks, label maps and input sizes.
+  OnnxModelPaths onnx_paths;
+  std::shared_ptr<const OnnxModels> onnx;  // Loaded by main.cc before RunRunCommand; null without ONNX flags.
 };
 
-// `semvox run`: load, voxelise, write map.bt, occupancy.{pgm,yaml}, summary.json, config_used.yaml.
-Status RunPipeline(const RunArgs& args);
+// `semvox run`: the pipeline (pipeline/pipeline.h) on args.input; its outputs, config_used.yaml and report.html
+// in args.outdir.
+Status RunRunCommand(const RunArgs& args);
 
 struct GenerateArgs {
   std::string outdir;
@@ -92,20 +92,6 @@ struct RenderArgs {
 // views.json (poses, intrinsics, per-view statistics).
 Status RunRender(const RenderArgs& args);
 
-// The render stage of `semvox run`: viewpoints and views over the voxel map, OUTDIR/views.json, and with
-// save_views the thumbnails OUTDIR/views/view_NNNNN.png.
-struct ViewsStageSummary {
-  size_t positions = 0, views = 0, kept = 0;
-  size_t surface_voxels = 0, seen_surface_voxels = 0;  // Occupied voxels with a free neighbour; seen by kept views.
-  double camera_z = 0, seconds_build = 0, seconds_render = 0;
-  std::vector<Eigen::Vector3d> viewpoints;  // The viewpoints' positions.
-};
-// `renderer` renders the scene; `extra_sink` (optional) sees every rendered view too. views.json's positions
-// and poses are mapped by `input_from_world` (the canonical frame back to the input frame).
-Status RunViewsStage(const ViewRenderer& renderer, const VoxelMap& map, const ViewsOptions& options, const std::string& outdir,
-                     bool save_views, ViewsStageSummary* summary, const ViewSink& extra_sink = {},
-                     const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
-
 // ---- batch (apps/batch_command.cc) ----
 struct BatchArgs {
   std::string manifest;     // One scan per line: INPUT, or NAME INPUT; '#' starts a comment.
@@ -149,7 +135,7 @@ struct TrainArgs {
 // `semvox train`: per-view classifiers (k-NN unaries, tree and union CRFs) from generated apartments.
 Status RunTrain(const TrainArgs& args);
 // `semvox train --voxel-crf`: the Voxel-CRF's weights (structural SVM) and layout prior -> OUTDIR/voxel_crf.txt
-// (apps/voxel_crf_training.cc).
+// (pipeline/voxel_crf_training.h).
 Status RunTrainVoxelCrf(const TrainArgs& args);
 
 // `semvox train --segments`: only models/object_segments.knn (and object_segments_report.json).
@@ -180,7 +166,7 @@ Status RunReport(const ReportArgs& args);
 std::string LabelsMarkdown();
 Status RunLabels();
 
-// ---- remove (apps/remove_command.cc; src/voxelcrf/object_removal.h) ----
+// ---- remove (apps/remove_command.cc; src/pipeline/object_removal_stage.h) ----
 struct RemoveArgs {
   std::string outdir;                // OUTDIR of a `semvox run` (voxels.ply, map.ot, summary.json).
   std::string output;                // OUT2: where the edited map goes (must differ from OUTDIR).

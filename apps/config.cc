@@ -90,21 +90,6 @@ Status LoadConfigFile(const std::string& path, PipelineConfig* config) {
   return ParseConfig(text, path, config);
 }
 
-Status CheckConfig(const PipelineConfig& config) {
-  std::string error;
-  if (!config.load.Check(&error)) return Status::InvalidInput("configuration: input." + error);
-  if (!config.voxelize.Check(&error)) return Status::InvalidInput("configuration: mapping." + error);
-  if (!config.occupancy.Check(&error)) return Status::InvalidInput("configuration: occupancy." + error);
-  if (!config.floor_plan.Check(&error)) return Status::InvalidInput("configuration: rooms." + error);
-  if (!config.rooms.Check(&error)) return Status::InvalidInput("configuration: rooms." + error);
-  if (!config.room_types.Check(&error)) return Status::InvalidInput("configuration: room_types." + error);
-  if (!config.render.Check(&error)) return Status::InvalidInput("configuration: render." + error);
-  if (!config.semantic.Check(&error)) return Status::InvalidInput("configuration: semantic." + error);
-  if (!config.objects.Check(&error)) return Status::InvalidInput("configuration: objects." + error);
-  if (!config.report.Check(&error)) return Status::InvalidInput("configuration: report." + error);
-  return Status::Ok();
-}
-
 std::string DumpConfig(const PipelineConfig& config) {
   std::ostringstream os;
   os << "# semvox configuration. Every key is optional; unknown keys are errors.\n";

@@ -8,7 +8,7 @@
 
 #include "apps/commands.h"
 #include "apps/config.h"
-#include "apps/onnx_stage.h"
+#include "pipeline/onnx_stage.h"
 #include "core/file_util.h"
 #include "core/log.h"
 
@@ -51,13 +51,13 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--max-voxels", run.max_voxels, "refuse voxel grids larger than this (memory guard)")
       ->check(CLI::PositiveNumber);
   run_cmd->add_flag("--save-views", run.save_views, "write PNG thumbnails of every view into OUTDIR/views/");
-  // Optional ONNX backend (apps/onnx_stage.h, docs/perception.md).
-  run_cmd->add_option("--scene-model", run.scene_model, "Places365-style scene network (.onnx) for the room-type evidence");
-  run_cmd->add_option("--scene-labels", run.scene_labels, "label map of --scene-model: NET_INDEX ROOM_TYPE lines");
-  run_cmd->add_option("--scene-input", run.scene_input_size, "input size of --scene-model, WxH (default 224x224)");
-  run_cmd->add_option("--object-model", run.object_model, "segmentation network (.onnx) for the per-pixel class probabilities");
-  run_cmd->add_option("--object-labels", run.object_labels, "label map of --object-model: NET_INDEX NYU40_CLASS lines");
-  run_cmd->add_option("--object-input", run.object_input_size, "input size of --object-model, WxH (default 224x224)");
+  // Optional ONNX backend (pipeline/onnx_stage.h, docs/perception.md).
+  run_cmd->add_option("--scene-model", run.onnx_paths.scene_model, "Places365-style scene network (.onnx) for the room-type evidence");
+  run_cmd->add_option("--scene-labels", run.onnx_paths.scene_labels, "label map of --scene-model: NET_INDEX ROOM_TYPE lines");
+  run_cmd->add_option("--scene-input", run.onnx_paths.scene_input_size, "input size of --scene-model, WxH (default 224x224)");
+  run_cmd->add_option("--object-model", run.onnx_paths.object_model, "segmentation network (.onnx) for the per-pixel class probabilities");
+  run_cmd->add_option("--object-labels", run.onnx_paths.object_labels, "label map of --object-model: NET_INDEX NYU40_CLASS lines");
+  run_cmd->add_option("--object-input", run.onnx_paths.object_input_size, "input size of --object-model, WxH (default 224x224)");
   run_cmd->add_option("--models", run.models_dir, "directory of the model files (default: $SEMVOX_MODELS, else ../share/semvox/models "
                       "relative to the semvox binary, where `cmake --install` puts them)");
   run_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
@@ -197,10 +197,10 @@ int main(int argc, char** argv) {
     if (*run_cmd) {
       // The ONNX models load (and fail) before anything is written.
       auto onnx = std::make_shared<semvox::OnnxModels>();
-      const semvox::Status st = semvox::LoadOnnxModels(run, onnx.get());
+      const semvox::Status st = semvox::LoadOnnxModels(run.onnx_paths, onnx.get());
       if (!st.ok()) return Report(st);
       if (onnx->any()) run.onnx = std::move(onnx);
-      return Report(semvox::RunPipeline(run));
+      return Report(semvox::RunRunCommand(run));
     }
     if (*batch_cmd) return Report(semvox::RunBatch(batch));
     if (*gen_cmd) return Report(semvox::RunGenerate(gen));

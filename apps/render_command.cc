@@ -1,4 +1,5 @@
-// `semvox render` and the render stage of `semvox run`: virtual views of a scanned scene.
+// `semvox render`: virtual views of a scanned scene from given poses (the render stage of `semvox run` is
+// pipeline/views_stage.h).
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -75,37 +76,6 @@ Status ParsePose(const std::string& text, Eigen::Vector3d* position, double* yaw
 }
 
 }  // namespace
-
-Status RunViewsStage(const ViewRenderer& renderer, const VoxelMap& map, const ViewsOptions& options, const std::string& outdir,
-                     bool save_views, ViewsStageSummary* summary, const ViewSink& extra_sink,
-                     const Eigen::Isometry3d& input_from_world) {
-  const std::string views_dir = (fs::path(outdir) / "views").string();
-  if (save_views) SEMVOX_RETURN_IF_ERROR(EnsureWritableDirectory(views_dir));
-  ViewSink sink = [&](const ViewRecord& record, const RenderedView& view) {
-    if (save_views)
-      SEMVOX_RETURN_IF_ERROR(WriteImage((fs::path(outdir) / ThumbnailName(record.id)).string(),
-                                        DownscaleImage(view.rgb, options.thumbnail_width)));
-    if (extra_sink) return extra_sink(record, view);
-    return Status::Ok();
-  };
-  Result<ViewSet> views = RenderViews(renderer, map, options, sink);
-  if (!views.ok()) return views.status();
-  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((fs::path(outdir) / "views.json").string(),
-                                         ViewsToJson(views.value(), options, save_views, input_from_world)));
-  const SurfaceCoverage cov = ComputeSurfaceCoverage(map.grid, views->voxel_seen);
-  summary->positions = views->positions.size();
-  summary->views = views->views.size();
-  summary->kept = views->num_kept();
-  summary->surface_voxels = cov.surface_voxels;
-  summary->seen_surface_voxels = cov.seen_voxels;
-  summary->camera_z = views->view_z;
-  summary->viewpoints = views->positions;
-  summary->seconds_render = views->seconds_render;
-  SEMVOX_INFO("views: " << summary->positions << " viewpoints at z = " << summary->camera_z << ", " << summary->kept
-                        << " of " << summary->views << " views kept; they see " << cov.seen_voxels << " of "
-                        << cov.surface_voxels << " surface voxels (" << 100.0 * cov.fraction() << "%)");
-  return Status::Ok();
-}
 
 Status RunRender(const RenderArgs& args) {
   PipelineConfig config;

@@ -31,6 +31,7 @@
 #include "perception/room_evidence.h"
 #include "perception/training_data.h"
 #include "perception/view_classifier.h"
+#include "pipeline/voxel_crf_training.h"
 #include "rooms/r2v_plan.h"
 #include "rooms/room_type_training.h"
 
@@ -224,6 +225,17 @@ Status RunTrainSegments(const TrainArgs& args) {
   Result<nlohmann::json> j = TrainSegments(args, val_seeds, SecondLevel());
   if (!j.ok()) return j.status();
   return WriteFileAtomic(args.outdir + "/object_segments_report.json", j->dump(2) + "\n");
+}
+
+Status RunTrainVoxelCrf(const TrainArgs& args) {
+  VoxelCrfTrainingOptions options;
+  options.models_dir = args.outdir;
+  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.voxel_crf_seeds, "--voxel-crf-seeds", &options.seeds));
+  options.seeds_text = args.voxel_crf_seeds;
+  options.style = args.voxel_crf_style;
+  options.epochs = args.voxel_crf_epochs;
+  options.appearance_weight = args.voxel_crf_appearance_weight;
+  return TrainVoxelCrf(options);
 }
 
 Status RunTrain(const TrainArgs& args) {

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "apps/commands.h"
-#include "apps/semantic_stage.h"
+#include "pipeline/semantic_options.h"
 #include "io/load_scene.h"
 #include "mapping/scene_frame.h"
 #include "mapping/voxelizer.h"

@@ -23,7 +23,11 @@
 
 #include "apps/commands.h"
 #include "apps/models_dir.h"
-#include "apps/semantic_stage.h"
+#include "pipeline/pipeline_config.h"
+#include "pipeline/semantic_evidence.h"
+#include "pipeline/semantic_exports.h"
+#include "pipeline/semantic_solve.h"
+#include "pipeline/voxel_crf_examples.h"
 #include "bench/boost_bk_graph.h"
 #include "core/labels.h"
 #include "core/log.h"
@@ -59,7 +63,9 @@ struct Prepared {
   Scene scene;
   VoxelMap map;
   std::unique_ptr<ViewRenderer> renderer;
-  std::unique_ptr<SemanticStage> stage;
+  SemanticModels models;
+  SemanticEvidence evidence;
+  SemanticLabels labels;
   std::string gt_dir;
   Mesh clean_mesh;
   double seconds_voxelize = 0, seconds_views = 0, seconds_classify = 0;
@@ -88,17 +94,19 @@ Status Prepare(uint64_t seed, const std::string& models, const std::string& work
   Result<ViewRenderer> r = ViewRenderer::Create(p->scene);
   if (!r.ok()) return r.status();
   p->renderer = std::make_unique<ViewRenderer>(std::move(r).value());
-  Result<std::unique_ptr<SemanticStage>> st = SemanticStage::Create(p->map, *p->renderer, config.semantic, models);
-  if (!st.ok()) return st.status();
-  p->stage = std::move(st).value();
+  Result<SemanticModels> loaded = SemanticModels::Load(models, config.semantic.crf_model);
+  if (!loaded.ok()) return loaded.status();
+  p->models = std::move(loaded).value();
+  Result<std::unique_ptr<SemanticEvidenceBuilder>> builder = SemanticEvidenceBuilder::Create(p->map, *p->renderer, config.semantic, p->models);
+  if (!builder.ok()) return builder.status();
   t0 = Clock::now();
-  Result<ViewSet> views = RenderViews(*p->renderer, p->map, config.render, p->stage->DepthSink());
+  Result<ViewSet> views = RenderViews(*p->renderer, p->map, config.render, (*builder)->DepthSink());
   if (!views.ok()) return views.status();
   p->seconds_views = Seconds(t0);
   t0 = Clock::now();
-  SEMVOX_RETURN_IF_ERROR(p->stage->ClassifyViews(views->positions));
+  SEMVOX_RETURN_IF_ERROR((*builder)->ClassifyViews(views->positions));
   p->seconds_classify = Seconds(t0);
-  p->stage->FinishEvidence();
+  p->evidence = std::move(**builder).Finish();
   return Status::Ok();
 }
 
@@ -137,21 +145,21 @@ int Accuracy(const std::vector<uint64_t>& seeds, const std::string& models, cons
         crf.visibility_min_progress = 0;
       }
       const auto t0 = Clock::now();
-      if (!p.stage->SolveWith(crf).ok()) return 1;
+      if (!SolveSemantic(p.map, p.evidence, p.models.crf, crf, &p.labels).ok()) return 1;
       const double solve_s = Seconds(t0);
       const std::string dir = work + "/pred_" + std::to_string(seed) + "_" + std::to_string(v);
       fs::create_directories(dir);
-      const OccupancyMap occ = ComputeOccupancy(p.stage->refined_grid(), p.map.floor_z, config.occupancy);
+      const OccupancyMap occ = ComputeOccupancy(p.labels.refined, p.map.floor_z, config.occupancy);
       if (!WriteOccupancyMap(occ, dir, "occupancy").ok()) return 1;
-      if (!p.stage->Write(dir, nullptr, config.occupancy.band_min_above_floor_m, config.occupancy.band_max_above_floor_m, occ.image).ok()) return 1;
+      if (!WriteSemanticExports(dir, p.map, p.labels, config.occupancy.band_min_above_floor_m, config.occupancy.band_max_above_floor_m, occ.image).ok()) return 1;
       Result<EvalReport> rep = Evaluate(dir, p.gt_dir);
       if (!rep.ok()) {
         std::fprintf(stderr, "eval: %s\n", rep.status().message().c_str());
         return 1;
       }
       // Completed wall / floor: ground-truth wall and floor voxels the scan never saw.
-      const VoxelCrfNodes& nodes = p.stage->nodes();
-      const auto& labels = p.stage->crf_result().labels;
+      const VoxelCrfNodes& nodes = p.evidence.nodes;
+      const auto& labels = p.labels.crf.labels;
       size_t hidden = 0, right = 0;
       for (size_t i = 0; i < nodes.size(); ++i) {
         if (nodes.initial_state[i] != uint8_t(VoxelState::kUnknown)) continue;
@@ -194,14 +202,14 @@ int Solvers(uint64_t seed, const std::string& models, const std::string& work) {
   }
   const Aabb box = p.scene.Bounds();
   std::printf("apartment seed %llu: %.1f x %.1f m, %zu CRF nodes; voxelise %.1f s, views %.1f s, classify %.1f s (total %.1f s), peak RSS %.0f MB\n",
-              (unsigned long long)seed, box.extent().x(), box.extent().y(), p.stage->nodes().size(), p.seconds_voxelize, p.seconds_views,
+              (unsigned long long)seed, box.extent().x(), box.extent().y(), p.evidence.nodes.size(), p.seconds_voxelize, p.seconds_views,
               p.seconds_classify, Seconds(t0), PeakRssMb());
   // Alg. 1 as `semvox run` does it.
   const auto t1 = Clock::now();
   const double cpu1 = CpuSeconds();
-  if (!p.stage->Solve().ok()) return 1;
+  if (!SolveSemantic(p.map, p.evidence, p.models.crf, PipelineConfig{}.semantic.crf, &p.labels).ok()) return 1;
   const double alg1_cpu = CpuSeconds() - cpu1;
-  const VoxelCrfResult& r = p.stage->crf_result();
+  const VoxelCrfResult& r = p.labels.crf;
   std::printf("Voxel-CRF (Alg. 1, %zu iterations): %.1f s wall, %.1f CPU s (both threads), peak RSS %.0f MB; planes %.2f s, ray starts + V_0 %.2f s, "
               "confidence %.2f s\n",
               r.iterations.size(), Seconds(t1), alg1_cpu, PeakRssMb(), r.seconds_planes, r.seconds_ray_starts, r.seconds_confidence);
@@ -213,10 +221,10 @@ int Solvers(uint64_t seed, const std::string& models, const std::string& work) {
                 it.energy_initial, it.energy_final, (long long)it.changed_visibility);
   }
   // The first iteration's energy (visibility V_0 from the map) with three minimisers.
-  std::vector<int> v0(p.stage->nodes().size(), 0);
-  for (size_t i = 0; i < v0.size(); ++i) v0[i] = p.stage->nodes().initial_state[i] == uint8_t(VoxelState::kOccupied);
-  const VoxelCrfTrainingExample ex = p.stage->TrainingExample(v0, p.stage->model());
-  const CrfEnergy energy = ex.problem.Energy(p.stage->model().w);
+  std::vector<int> v0(p.evidence.nodes.size(), 0);
+  for (size_t i = 0; i < v0.size(); ++i) v0[i] = p.evidence.nodes.initial_state[i] == uint8_t(VoxelState::kOccupied);
+  const VoxelCrfTrainingExample ex = TrainingExample(p.map, p.evidence, PipelineConfig{}.semantic.crf, v0, p.models.crf);
+  const CrfEnergy energy = ex.problem.Energy(p.models.crf.w);
   std::printf("first-iteration energy: %d nodes, %d labels, %zu edges, %d cliques, %.0f MB\n", energy.num_nodes(), energy.num_labels(),
               energy.edges().size(), energy.num_cliques(), double(energy.MemoryBytes()) / 1e6);
   std::printf("%-34s %14s %8s %8s\n", "solver", "energy", "sweeps", "seconds");

@@ -11,7 +11,7 @@
 //   ([1,C] or [1,C,1,1]). Its classes are mapped to the 12 room types of room_types.tsv by a label map.
 // * Object model: a semantic segmentation network, one input [1,3,h,w], one output [1,C,h',w'] (any
 //   h' x w'; bilinearly resized to the view). Its classes are mapped to NYU40 ids by a label map, then to
-//   the classes of a LabelLevel (training_data.h) through level.class_of_nyu40.
+//   the classes of a LabelLevel (label_levels.h) through level.class_of_nyu40.
 //
 // Label-map file (text, UTF-8), one network class a line:
 //
@@ -53,7 +53,7 @@
 #include "core/image.h"
 #include "core/status.h"
 #include "perception/room_evidence.h"
-#include "perception/training_data.h"
+#include "perception/label_levels.h"
 #include "render/view_renderer.h"
 
 namespace semvox {

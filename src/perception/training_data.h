@@ -16,25 +16,12 @@
 
 #include "core/image.h"
 #include "core/status.h"
+#include "perception/classifier_views.h"
+#include "perception/label_levels.h"
 #include "perception/view_augmentation.h"
 #include "render/view_renderer.h"
 
 namespace semvox {
-
-// A label vocabulary the per-view classifier is trained on: NYU40 id -> class index (-1 = ignore).
-struct LabelLevel {
-  std::string name;
-  std::vector<std::string> class_names;
-  std::vector<int> class_of_nyu40;  // kNumNyu40 entries.
-  int num_classes() const { return int(class_names.size()); }
-  Image<int32_t> Map(const Image<int32_t>& nyu40) const;
-};
-
-// First level: NYU-4 (ground, structure, furniture, props), from labels.h.
-LabelLevel Nyu4Level();
-// Second level: the ScanNet-20 classes plus ceiling, each its own class, and "other" for every other
-// labelled id (22 classes).
-LabelLevel SecondLevel();
 
 // How training apartments look. kFlat: the generator's own flat per-object colours on the scanned mesh,
 // views from each room's middle (the style every model was trained on before randomisation). kRandomised:
@@ -48,12 +35,12 @@ struct TrainingViewsOptions {
   TrainingStyle style = TrainingStyle::kFlat;
   int width = 320;                  // Pixels. >= 16.
   int height = 240;                 // Pixels. >= 16.
-  double horizontal_fov_deg = 60;   // About a Kinect's, as in NYUv2. (0, 180).
-  double eye_height_m = 1.6;        // Above the floor. > 0.
-  double pitch_deg = -15;           // Negative looks down.
+  double horizontal_fov_deg = ClassifierViews::kHorizontalFovDeg;  // About a Kinect's, as in NYUv2. (0, 180).
+  double eye_height_m = ClassifierViews::kEyeHeightM;              // Above the floor. > 0.
+  double pitch_deg = ClassifierViews::kPitchDeg;                   // Negative looks down.
   int yaws_per_room = 4;            // Evenly spaced headings from the room's middle. >= 1.
-  double min_hit_fraction = 0.5;    // Views seeing less surface than this are skipped. [0, 1].
-  double min_mean_depth_m = 0.8;    // Views with a nearer mean depth (inside furniture) are skipped. >= 0.
+  double min_hit_fraction = ClassifierViews::kMinHitFraction;      // Views seeing less surface than this are skipped. [0, 1].
+  double min_mean_depth_m = ClassifierViews::kMinMeanDepthM;       // Views with a nearer mean depth (inside furniture) are skipped. >= 0.
   // kRandomised only:
   double cloud_probability = 0.5;        // An apartment is delivered as a simulated fused cloud. [0, 1].
   double min_point_spacing_m = 0.015;    // Fusion grid of the cloud drawn in [min, max], metres. > 0.

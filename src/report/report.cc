@@ -332,7 +332,7 @@ Result<std::string> RenderReportHtml(const std::string& outdir, const ReportOpti
     }
     if (!s.is_object()) return Status::InvalidInput(FileError(summary_path.string(), "not a JSON object", "re-run semvox run"));
   }
-  // The semantic section: "voxel_crf" (planned name) or "semantic" (current run_command.cc).
+  // The semantic section: "voxel_crf" (planned name) or "semantic" (pipeline/pipeline_summary.cc).
   const ordered_json* semantic = Get(s, "voxel_crf");
   if (!semantic) semantic = Get(s, "semantic");
 

@@ -3,7 +3,7 @@
 //   rooms.geojson  a FeatureCollection, one Polygon (MultiPolygon if a room has several parts) per room in
 //                  metres, with properties id, type, type_id, type_probabilities, area_m2, ceiling_height_m;
 //   rooms.svg      the floor plan with each room filled, its id and type at its centre, and a legend.
-// Room types come from the room-type CRF (rooms/room_type_crf.h, written by apps/room_types_stage.h); without
+// Room types come from the room-type CRF (rooms/room_type_crf.h, written by pipeline/room_types_stage.h); without
 // it every room is "unknown" (id 0) with empty type_probabilities. Typed rooms also carry `probability`,
 // `second_type`, `second_type_id` and `second_probability`.
 #pragma once

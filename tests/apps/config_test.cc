@@ -1,5 +1,5 @@
 #include "apps/config.h"
-#include "apps/semantic_stage.h"
+#include "pipeline/semantic_options.h"
 
 #include <gtest/gtest.h>
 

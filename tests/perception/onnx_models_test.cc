@@ -1,4 +1,4 @@
-// The ONNX backend and its `semvox run` flags (apps/onnx_stage.h) on tiny networks this
+// The ONNX backend and its `semvox run` flags (pipeline/onnx_stage.h) on tiny networks this
 // test writes with python3-onnx: a 1x1 convolution (each pixel's class scores are a linear function of its
 // colour) as the segmentation network, global average pooling + Gemm as the scene network. Every output is
 // checked against the same maths done here by hand. Skips when python3 with the onnx module is missing.
@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "apps/onnx_stage.h"
+#include "pipeline/onnx_stage.h"
 #include "core/label_aliases.h"
 #include "core/labels.h"
 #include "tests/test_util.h"
@@ -477,16 +477,16 @@ TEST(OnnxCli, RunWithABadLabelMapFailsWithOneLineAndWritesNothing) {
 }  // namespace
 }  // namespace semvox
 
-// ---- apps/onnx_stage.h: the models from RunArgs ----
+// ---- pipeline/onnx_stage.h: the models the flags name ----
 
 namespace semvox {
 namespace {
 
-TEST(OnnxStage, LoadsTheModelsRunArgsNameWithTheirInputSizes) {
+TEST(OnnxStage, LoadsTheModelsTheFlagsNameWithTheirInputSizes) {
   REQUIRE_PYTHON_ONNX();
   testing::ScratchDir dir("onnx_stage");
   const int w = 32, h = 24;
-  RunArgs args;
+  OnnxModelPaths args;
   args.object_model = MakeModel(python, dir, "seg", Json("seg", w, h, kSegWeights, kSegBias, false));
   args.object_labels = dir.File("seg.tsv");
   args.object_input_size = "32x24";
@@ -518,13 +518,13 @@ TEST(OnnxStage, LoadsTheModelsRunArgsNameWithTheirInputSizes) {
     EXPECT_EQ(labels.at(x, y), level.class_of_nyu40[size_t(nyu40_of_network_class[best])]) << "quadrant " << quadrant;
   }
   // Flags in halves are errors naming the missing flag; no flags load nothing.
-  RunArgs half;
+  OnnxModelPaths half;
   half.object_labels = args.object_labels;
   const Status missing = LoadOnnxModels(half, &models);
   EXPECT_NE(missing.message().find("--object-labels " + args.object_labels + " is given without --object-model"), std::string::npos)
       << missing.message();
   EXPECT_FALSE(models.any());
-  ASSERT_TRUE(LoadOnnxModels(RunArgs{}, &models).ok());
+  ASSERT_TRUE(LoadOnnxModels(OnnxModelPaths{}, &models).ok());
   EXPECT_FALSE(models.any());
 }
 

@@ -6,12 +6,12 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "apps/commands.h"
 #include "core/file_util.h"
 #include "core/labels.h"
 #include "core/ply.h"
 #include "mapping/occupancy_map.h"
 #include "mapping/octomap_io.h"
+#include "pipeline/object_removal_stage.h"
 #include "tests/test_util.h"
 #include "voxelcrf/object_removal.h"
 
@@ -238,15 +238,15 @@ TEST(ObjectRemoval, VoxelMeshIsClosedAndLabelled) {
   EXPECT_NE(testing::ReadText(dir.File("mesh.mtl")).find("newmtl label_5_chair"), std::string::npos);
 }
 
-TEST(RemoveCommand, WritesTheEditedRun) {
+TEST(ObjectRemovalStage, WritesTheEditedRun) {
   const Room room;
   testing::ScratchDir in("remove_in"), out("remove_out");
   room.WriteOutdir(in.path().string());
-  RemoveArgs args;
+  ObjectRemovalRequest args;
   args.outdir = in.path().string();
   args.output = out.path().string();
   args.classes = {"television"};
-  const Status st = RunRemove(args);
+  const Status st = RemoveObjectsFromRun(args);
   ASSERT_TRUE(st.ok()) << st.message();
   Result<PlyData> voxels = ReadPly(out.File("voxels.ply"));
   ASSERT_TRUE(voxels.ok()) << voxels.status().message();
@@ -282,39 +282,39 @@ TEST(RemoveCommand, WritesTheEditedRun) {
   args.outdir = out.path().string();
   args.output = out2.path().string();
   args.classes = {"table"};
-  ASSERT_TRUE(RunRemove(args).ok());
+  ASSERT_TRUE(RemoveObjectsFromRun(args).ok());
 }
 
-TEST(RemoveCommand, BadInputIsOneClearError) {
+TEST(ObjectRemovalStage, BadInputIsOneClearError) {
   const Room room;
   testing::ScratchDir in("remove_bad"), out("remove_bad_out");
   room.WriteOutdir(in.path().string());
-  RemoveArgs args;
+  ObjectRemovalRequest args;
   args.outdir = in.path().string();
   args.output = out.path().string();
   args.classes = {"telly"};
-  Status st = RunRemove(args);
+  Status st = RemoveObjectsFromRun(args);
   EXPECT_EQ(st.exit_code(), 2);
   EXPECT_NE(st.message().find("'telly'"), std::string::npos) << st.message();
   EXPECT_NE(st.message().find("television"), std::string::npos) << st.message();  // Lists the valid names.
   args.classes = {"sofa"};  // Valid, but absent.
-  st = RunRemove(args);
+  st = RemoveObjectsFromRun(args);
   EXPECT_EQ(st.exit_code(), 2);
   EXPECT_NE(st.message().find("classes present"), std::string::npos) << st.message();
   args.classes = {};
   args.instances = {9999};
-  st = RunRemove(args);
+  st = RemoveObjectsFromRun(args);
   EXPECT_EQ(st.exit_code(), 2);
   EXPECT_NE(st.message().find("--list"), std::string::npos) << st.message();
   args.instances = {};
   args.classes = {"television"};
   args.outdir = in.File("nope");
-  st = RunRemove(args);
+  st = RemoveObjectsFromRun(args);
   EXPECT_EQ(st.exit_code(), 2);
   EXPECT_NE(st.message().find("nope"), std::string::npos) << st.message();
   std::filesystem::remove(in.File("map.ot"));
   args.outdir = in.path().string();
-  st = RunRemove(args);
+  st = RemoveObjectsFromRun(args);
   EXPECT_EQ(st.exit_code(), 2);
   EXPECT_NE(st.message().find("map.ot"), std::string::npos) << st.message();
   EXPECT_TRUE(std::filesystem::is_empty(out.path()));  // Nothing written on failure.

@@ -1,4 +1,4 @@
-#include "apps/onnx_stage.h"
+#include "pipeline/onnx_stage.h"
 
 #include <cstdlib>
 
@@ -23,7 +23,7 @@ Status ParseOnnxInputSize(const std::string& flag, const std::string& text, Onnx
   return Status::Ok();
 }
 
-Status LoadOnnxModels(const RunArgs& args, const LabelLevel& level, OnnxModels* out) {
+Status LoadOnnxModels(const OnnxModelPaths& args, const LabelLevel& level, OnnxModels* out) {
   *out = OnnxModels{};
   auto pair_check = [](const std::string& model, const std::string& labels, const char* model_flag, const char* labels_flag) {
     if (!model.empty() && labels.empty())

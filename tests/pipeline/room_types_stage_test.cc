@@ -1,4 +1,4 @@
-// apps/room_types_stage.h: the stage writes typed rooms.geojson (the properties `semvox eval` reads: id and
+// pipeline/room_types_stage.h: the stage writes typed rooms.geojson (the properties `semvox eval` reads: id and
 // type_id, plus probability and second type), rooms.png, rooms.svg and rooms_types.png; a missing model is one
 // clear error.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "apps/room_types_stage.h"
+#include "pipeline/room_types_stage.h"
 
 namespace semvox {
 namespace {

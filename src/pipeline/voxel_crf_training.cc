@@ -1,12 +1,5 @@
-// `semvox train --voxel-crf`: learns the Voxel-CRF's weights by structural SVM (Kim et al. 2013, Sec. 5.2)
-// and its layout prior on generated apartments, and writes OUTDIR/voxel_crf.txt and voxel_crf_report.json
-// (--voxel-crf-style cloud: voxel_crf_cloud.txt and voxel_crf_cloud_report.json).
-//
-// Each training apartment goes through the same stages as `semvox run` (randomised scan as for the per-view
-// classifiers (perception/training_data.h, MakeTrainingScan), voxelisation,
-// rendered views with depth evidence, classification views with the shipped per-view classifier), so the
-// weights are learned on the evidence the pipeline really produces. The ground truth of every CRF node is
-// the NYU40 label of the clean mesh's surface in the voxel (second-level class), or empty.
+#include "pipeline/voxel_crf_training.h"
+
 #include <chrono>
 #include <deque>
 #include <filesystem>
@@ -14,22 +7,22 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "apps/commands.h"
-#include "apps/semantic_stage.h"
 #include "core/file_util.h"
 #include "core/labels.h"
 #include "core/log.h"
 #include "eval/evaluate.h"
 #include "perception/training_data.h"
+#include "pipeline/pipeline_config.h"
+#include "pipeline/semantic_evidence.h"
+#include "pipeline/voxel_crf_examples.h"
 #include "scenegen/apartment.h"
 #include "scenegen/scan_artefacts.h"
 
 namespace semvox {
 
-Status RunTrainVoxelCrf(const TrainArgs& args) {
+Status TrainVoxelCrf(const VoxelCrfTrainingOptions& args) {
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<uint64_t> seeds;
-  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.voxel_crf_seeds, "--voxel-crf-seeds", &seeds));
+  const std::vector<uint64_t>& seeds = args.seeds;
   const PipelineConfig config;  // The defaults `semvox run` uses.
   const LabelLevel level = SecondLevel();
   const int K = level.num_classes();
@@ -37,22 +30,25 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
     Scene scene;
     VoxelMap map;
     std::unique_ptr<ViewRenderer> renderer;
-    std::unique_ptr<SemanticStage> stage;
+    SemanticEvidence evidence;
     std::vector<int> gt;
   };
   std::deque<Item> items;
   std::vector<double> layout_counts;
   std::map<int, size_t> other_ids;  // NYU40 ids that fall in "other", by voxel count.
   const int other_class = K - 1;
-  const bool mixed = args.voxel_crf_style == "mixed";
+  const bool mixed = args.style == "mixed";
   // cloud: randomised scans that are all simulated fused clouds; the weights go to voxel_crf_cloud.txt,
   // which `semvox run` uses for point-cloud input (SemanticStageOptions::crf_model).
-  const bool cloud = args.voxel_crf_style == "cloud";
+  const bool cloud = args.style == "cloud";
   TrainingStyle fixed_style = TrainingStyle::kFlat;
   if (cloud) fixed_style = TrainingStyle::kRandomised;
-  else if (!mixed && !ParseTrainingStyle(args.voxel_crf_style, &fixed_style))
-    return Status::InvalidInput("--voxel-crf-style = '" + args.voxel_crf_style + "': expected flat, randomised, cloud or mixed");
+  else if (!mixed && !ParseTrainingStyle(args.style, &fixed_style))
+    return Status::InvalidInput("--voxel-crf-style = '" + args.style + "': expected flat, randomised, cloud or mixed");
   const std::string model_name = cloud ? "voxel_crf_cloud" : "voxel_crf";
+  // The models `semvox run` uses on such a scan (the CRF weights' choice does not change the evidence).
+  Result<SemanticModels> models = SemanticModels::Load(args.models_dir, VoxelCrfModelChoice::kMesh);
+  if (!models.ok()) return models.status();
   for (size_t seed_index = 0; seed_index < seeds.size(); ++seed_index) {
     const uint64_t seed = seeds[seed_index];
     ApartmentOptions ao;
@@ -79,17 +75,17 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
     it.renderer = std::make_unique<ViewRenderer>(std::move(renderer).value());
     SemanticStageOptions semantic_options = config.semantic;  // As `semvox run` resolves auto for this scan.
     semantic_options.view_selection = ResolveViewSelection(semantic_options.view_selection, it.scene);
-    Result<std::unique_ptr<SemanticStage>> stage = SemanticStage::Create(it.map, *it.renderer, semantic_options, args.outdir);
-    if (!stage.ok()) return stage.status();
-    it.stage = std::move(stage).value();
-    Result<ViewSet> views = RenderViews(*it.renderer, it.map, config.render, it.stage->DepthSink());
+    Result<std::unique_ptr<SemanticEvidenceBuilder>> builder =
+        SemanticEvidenceBuilder::Create(it.map, *it.renderer, semantic_options, *models);
+    if (!builder.ok()) return builder.status();
+    Result<ViewSet> views = RenderViews(*it.renderer, it.map, config.render, (*builder)->DepthSink());
     if (!views.ok()) return views.status();
-    SEMVOX_RETURN_IF_ERROR(it.stage->ClassifyViews(views->positions));
-    it.stage->FinishEvidence();
+    SEMVOX_RETURN_IF_ERROR((*builder)->ClassifyViews(views->positions));
+    it.evidence = std::move(**builder).Finish();
     const VoxelLabels gt_voxels = VoxelizeLabeledMesh(apt->mesh, config.voxelize.voxel_size_m);
     const std::unordered_map<uint64_t, int> gt_map(gt_voxels.begin(), gt_voxels.end());
-    it.gt = it.stage->GroundTruthNodeLabels(gt_map);
-    it.stage->AddLayoutCounts(it.gt, &layout_counts);
+    it.gt = GroundTruthNodeLabels(it.map.grid, it.evidence, level, gt_map);
+    AddLayoutCounts(it.map, it.evidence, K, it.gt, &layout_counts);
     for (const auto& [key, id] : gt_voxels)
       if (id > 0 && id < kNumNyu40 && level.class_of_nyu40[size_t(id)] == other_class) ++other_ids[id];
     it.renderer.reset();
@@ -105,7 +101,7 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
   VoxelCrfModel model = VoxelCrfModel::Default(nyu40, level.class_names);
   model.layout = LayoutPrior::FromCounts(K, layout_counts);
   std::vector<VoxelCrfTrainingExample> examples;
-  for (Item& it : items) examples.push_back(it.stage->TrainingExample(it.gt, model));
+  for (Item& it : items) examples.push_back(TrainingExample(it.map, it.evidence, config.semantic.crf, it.gt, model));
   // Training error of the initial and the learned weights (plain inference, ground-truth visibility).
   auto training_error = [&](const std::array<double, kNumVoxelCrfWeights>& w) -> Result<double> {
     double sum = 0;
@@ -120,9 +116,9 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
   Result<double> before = training_error(model.w);
   if (!before.ok()) return before.status();
   VoxelCrfLearningOptions lo;
-  lo.epochs = args.voxel_crf_epochs;
-  if (args.voxel_crf_appearance_weight >= 0) {
-    model.w[kWAppearance] = args.voxel_crf_appearance_weight;
+  lo.epochs = args.epochs;
+  if (args.appearance_weight >= 0) {
+    model.w[kWAppearance] = args.appearance_weight;
     lo.frozen[kWAppearance] = true;
   }
   VoxelCrfLearningSummary summary;
@@ -131,11 +127,11 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
   model.w = *w;
   Result<double> after = training_error(model.w);
   if (!after.ok()) return after.status();
-  SEMVOX_RETURN_IF_ERROR(model.Save((std::filesystem::path(args.outdir) / (model_name + ".txt")).string()));
+  SEMVOX_RETURN_IF_ERROR(model.Save((std::filesystem::path(args.models_dir) / (model_name + ".txt")).string()));
   nlohmann::ordered_json report;
-  report["seeds"] = args.voxel_crf_seeds;
-  report["style"] = args.voxel_crf_style;
-  report["appearance_weight_held"] = args.voxel_crf_appearance_weight >= 0;
+  report["seeds"] = args.seeds_text;
+  report["style"] = args.style;
+  report["appearance_weight_held"] = args.appearance_weight >= 0;
   report["epochs"] = lo.epochs;
   report["learning_rate"] = lo.learning_rate;
   report["regularization"] = lo.regularization;
@@ -146,9 +142,9 @@ Status RunTrainVoxelCrf(const TrainArgs& args) {
   report["weights"] = std::vector<double>(model.w.begin(), model.w.end());
   report["other_class_nyu40"] = nyu40[size_t(other_class)];
   report["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((std::filesystem::path(args.outdir) / (model_name + "_report.json")).string(), report.dump(2) + "\n"));
+  SEMVOX_RETURN_IF_ERROR(WriteFileAtomic((std::filesystem::path(args.models_dir) / (model_name + "_report.json")).string(), report.dump(2) + "\n"));
   SEMVOX_INFO("voxel CRF training: per-voxel training error " << *before << " with the default weights, " << *after
-                                                              << " learned; " << args.outdir << "/" << model_name << ".txt");
+                                                              << " learned; " << args.models_dir << "/" << model_name << ".txt");
   return Status::Ok();
 }
 

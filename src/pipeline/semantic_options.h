@@ -1,38 +1,18 @@
-// The semantic stage of `semvox run`: per-view classification of virtual views, evidence per
-// voxel, the Voxel-CRF, and the semantic exports (voxels.ply, map.ot, semantic_topview*.png).
-//
-//   SemanticStage stage(scene, map, renderer, config);       // selects the CRF's voxels
-//   RunViewsStage(..., stage.DepthSink(), ...);              // every kept view adds depth evidence
-//   stage.ClassifyViews(positions);                          // classification views + room-type evidence
-//   stage.Solve();                                           // Alg. 1
-//   stage.Write(outdir, room_ids)                            // exports
+// Options of the semantic stage of the pipeline (pipeline/pipeline.h): which classification views are
+// classified, which Voxel-CRF weights are used, and the options of view selection, evidence and the CRF.
 #pragma once
-#include <Eigen/Core>
-#include <Eigen/Geometry>
-#include <array>
-#include <functional>
-#include <memory>
 #include <string>
-#include <unordered_map>
 #include <vector>
-#include <nlohmann/json.hpp>
-#include "core/geometry.h"
+
 #include "core/option_table.h"
-#include "core/status.h"
-#include "mapping/voxelizer.h"
-#include "render/view_renderer.h"
+#include "core/geometry.h"
 #include "render/view_selection.h"
-#include "render/views.h"
-#include "voxelcrf/semantic_map.h"
 #include "voxelcrf/voxel_crf.h"
-#include "voxelcrf/voxel_crf_learning.h"
 #include "voxelcrf/voxel_evidence.h"
 
 namespace semvox {
-struct ViewClassification;  // perception/view_classifier.h
-}  // namespace semvox
 
-namespace semvox {
+struct LabelLevel;  // perception/label_levels.h
 
 // Which candidate classification views are classified.
 enum class ClassifyViewSelection {
@@ -116,70 +96,7 @@ struct SemanticStageOptions {
   bool Check(std::string* error) const;
 };
 
-// Room-type evidence of one classification view (for the room-type CRF).
-struct ClassifiedViewRoomEvidence {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  double yaw_rad = 0, hfov_rad = 0, max_range_m = 0;
-  std::array<double, 12> p{};  // room_types.tsv ids 1..12 (index id - 1).
-};
-
-class SemanticStage {
- public:
-  // Loads the classifier and the CRF model from `models_dir` (second.*, room_type_knn.bin, object_segments.knn,
-  // voxel_crf.txt or voxel_crf_cloud.txt by options.crf_model).
-  static Result<std::unique_ptr<SemanticStage>> Create(const VoxelMap& map, const ViewRenderer& renderer,
-                                                       const SemanticStageOptions& options, const std::string& models_dir);
-  ~SemanticStage();
-  // Optional: the user's ONNX networks replace the built-in per-view classifier and room-type evidence.
-  void SetOnnxModels(const struct OnnxModels* models);
-  // Optional: the work to do on each used classification view (e.g. the support / clutter stage); with
-  // kAllObjectsOnCover only on the cover's views. The hook runs on several views at once, next to their
-  // classification, so it must be safe to call concurrently; what it returns runs once per view, in view
-  // order, on one thread (fusion), so the results do not depend on the threads. `classified` is the view's
-  // per-view classification (its superpixels and observations, for other classifiers of the same
-  // segmentation), or null when the ONNX networks replaced the built-in classifier.
-  using ViewHook = std::function<Result<std::function<Status()>>(const RenderedView&, const ViewClassification* classified)>;
-  void SetViewHook(ViewHook hook);
-  // Adds the depth, density, colour and normal evidence of every kept view.
-  ViewSink DepthSink();
-  // Renders and classifies the classification views from `positions` (x, y; the camera stands at the
-  // classifier's training eye height above the floor, looking down as in training).
-  Status ClassifyViews(const std::vector<Eigen::Vector3d>& positions);
-  Status Solve();
-  // Solves again with other CRF options (variants U, U+PW, U+PW+G; iterations) over the same evidence.
-  Status SolveWith(const VoxelCrfOptions& crf);
-  const VoxelCrfResult& crf_result() const;
-  // The refined occupancy grid (after Solve).
-  const VoxelGrid& refined_grid() const;
-  const SemanticMap& semantic_map() const;
-  SemanticMap* mutable_semantic_map();
-  const std::vector<ClassifiedViewRoomEvidence>& room_evidence() const;
-  // voxels.ply, map.ot, semantic_topview.png, semantic_topview_labels.png (rooms assigned from room_ids).
-  // voxels.ply's coordinates are mapped by `input_from_world` (canonical frame back to the input frame);
-  // map.ot and the top views stay on the grid (canonical frame).
-  Status Write(const std::string& outdir, const ImageU16* room_ids, double band_min_m, double band_max_m,
-               const ImageRgb8& occupancy_image, const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
-  nlohmann::ordered_json Summary() const;
-
-  // ---- For `semvox train --voxel-crf` ----
-  // Finishes the evidence (Solve does it too).
-  void FinishEvidence();
-  // Per node the ground-truth label (0 empty, k >= 1 class k - 1) from NYU40 labels per packed voxel key.
-  std::vector<int> GroundTruthNodeLabels(const std::unordered_map<uint64_t, int>& nyu40_of_key) const;
-  // Adds the layout-prior counts (LayoutPrior layout, K classes) of the ground-truth occupied nodes.
-  void AddLayoutCounts(const std::vector<int>& gt, std::vector<double>* counts) const;
-  // The CRF problem under the ground truth's visibility, for structural-SVM learning.
-  VoxelCrfTrainingExample TrainingExample(std::vector<int> gt, const VoxelCrfModel& model) const;
-  const VoxelCrfNodes& nodes() const;
-  const VoxelCrfModel& model() const;
-
- private:
-  struct Impl;
-  explicit SemanticStage(std::unique_ptr<Impl> impl);
-  std::unique_ptr<Impl> impl_;
-};
-
 // The NYU40 id written for each class of `level` ("other" -> otherprop), before training picks better.
-std::vector<int> Nyu40OfClasses(const struct LabelLevel& level);
+std::vector<int> Nyu40OfClasses(const LabelLevel& level);
 
 }  // namespace semvox

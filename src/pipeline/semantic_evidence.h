@@ -1,0 +1,101 @@
+// Evidence building, the first part of the semantic stage: the models it reads, per-voxel evidence from the
+// rendered views (depth, density, colour, normals), the classification views (per-view class probabilities and
+// room-type evidence) and the object segments classified by shape.
+//
+//   Result<SemanticModels> models = SemanticModels::Load(models_dir, VoxelCrfModelChoice::kMesh);
+//   Result<std::unique_ptr<SemanticEvidenceBuilder>> b = SemanticEvidenceBuilder::Create(map, renderer, options, *models);
+//   RenderViews(renderer, map, views_options, (*b)->DepthSink());   // every kept view adds depth evidence
+//   (*b)->ClassifyViews(positions);                                // classification views + room-type evidence
+//   SemanticEvidence evidence = std::move(**b).Finish();           // + object segments
+//
+// What follows: SolveSemantic (pipeline/semantic_solve.h), the exports (pipeline/semantic_exports.h), and for
+// `semvox train --voxel-crf` the training examples (pipeline/voxel_crf_examples.h).
+#pragma once
+#include <Eigen/Core>
+#include <array>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "mapping/voxelizer.h"
+#include "perception/label_levels.h"
+#include "pipeline/semantic_options.h"
+#include "render/view_renderer.h"
+#include "render/view_selection.h"
+#include "render/views.h"
+#include "voxelcrf/voxel_crf.h"
+#include "voxelcrf/voxel_evidence.h"
+
+namespace semvox {
+
+struct ViewClassification;  // perception/view_classifier.h
+class ViewClassifier;       // perception/view_classifier.h
+class KnnClassifier;        // perception/knn_unary.h
+struct OnnxModels;          // pipeline/onnx_stage.h
+
+// The model files of the semantic stage.
+struct SemanticModels {
+  LabelLevel level;                                    // The per-view classifier's classes (SecondLevel()).
+  std::shared_ptr<const ViewClassifier> classifier;   // second.*
+  std::shared_ptr<const KnnClassifier> room_knn;      // room_type_knn.bin
+  std::shared_ptr<const KnnClassifier> segment_knn;   // object_segments.knn; null when absent (no segment term).
+  VoxelCrfModel crf;                                   // voxel_crf.txt or voxel_crf_cloud.txt, else untrained defaults.
+  std::string crf_file;                                // File name of the loaded CRF model; "" for the defaults.
+
+  // Loads them from `models_dir` (the CLI resolves it, apps/models_dir.h). A missing object-segment or CRF
+  // model is a warning; a missing classifier or room-type k-NN, or models of different class counts, an error.
+  static Result<SemanticModels> Load(const std::string& models_dir, VoxelCrfModelChoice crf_model);
+};
+
+// Room-type evidence of one classification view (for the room-type CRF).
+struct ClassifiedViewRoomEvidence {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double yaw_rad = 0, hfov_rad = 0, max_range_m = 0;
+  std::array<double, 12> p{};  // room_types.tsv ids 1..12 (index id - 1).
+};
+
+// What the evidence building gives the solver, the room types and the summary.
+struct SemanticEvidence {
+  VoxelCrfNodes nodes;                                 // The CRF's voxels.
+  VoxelEvidence voxels;                                // Their evidence (with the object segments' term).
+  std::vector<ClassifiedViewRoomEvidence> rooms;       // Per used classification view.
+  ViewSelection selection;                             // Candidates and cover (kCover), or candidates only.
+  int classification_views = 0, skipped_views = 0;
+  int hooked_views = 0;                                // Classified views the view hook saw.
+  int num_segments = -1;                               // Object segments classified; -1 without a segment model.
+  double seconds_depth = 0, seconds_selection = 0, seconds_classify = 0, seconds_segments = 0;
+};
+
+class SemanticEvidenceBuilder {
+ public:
+  // Selects the CRF's voxels of `map`. `map`, `renderer` and `models` must outlive the builder.
+  static Result<std::unique_ptr<SemanticEvidenceBuilder>> Create(const VoxelMap& map, const ViewRenderer& renderer,
+                                                                 const SemanticStageOptions& options, const SemanticModels& models);
+  ~SemanticEvidenceBuilder();
+  // Optional: the user's ONNX networks replace the built-in per-view classifier and room-type evidence.
+  void SetOnnxModels(const OnnxModels* models);
+  // Optional: the work to do on each used classification view (e.g. the support / clutter stage); with
+  // kAllObjectsOnCover only on the cover's views. The hook runs on several views at once, next to their
+  // classification, so it must be safe to call concurrently; what it returns runs once per view, in view
+  // order, on one thread (fusion), so the results do not depend on the threads. `classified` is the view's
+  // per-view classification (its superpixels and observations, for other classifiers of the same
+  // segmentation), or null when the ONNX networks replaced the built-in classifier.
+  using ViewHook = std::function<Result<std::function<Status()>>(const RenderedView&, const ViewClassification* classified)>;
+  void SetViewHook(ViewHook hook);
+  // Adds the depth, density, colour and normal evidence of every kept view.
+  ViewSink DepthSink();
+  // Renders and classifies the classification views from `positions` (x, y; the camera stands at the
+  // classifier's training eye height above the floor, looking down as in training).
+  Status ClassifyViews(const std::vector<Eigen::Vector3d>& positions);
+  // The evidence, with the object segments of the map classified by shape (when there is a segment model).
+  SemanticEvidence Finish() &&;
+
+ private:
+  struct Impl;
+  explicit SemanticEvidenceBuilder(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace semvox

@@ -1,0 +1,28 @@
+// Solving, the second part of the semantic stage: the Voxel-CRF (Kim et al., ICCV 2013, Alg. 1) over the
+// evidence of pipeline/semantic_evidence.h, giving the labelled voxels and the refined occupancy.
+//
+//   SemanticLabels labels;
+//   Status st = SolveSemantic(map, evidence, models.crf, options.crf, &labels);
+#pragma once
+#include "core/status.h"
+#include "core/voxel_grid.h"
+#include "mapping/voxelizer.h"
+#include "pipeline/semantic_evidence.h"
+#include "voxelcrf/semantic_map.h"
+#include "voxelcrf/voxel_crf.h"
+
+namespace semvox {
+
+struct SemanticLabels {
+  VoxelCrfResult crf;   // Labels and visibility per node, planes, cliques, iterations.
+  SemanticMap map;      // The occupied voxels with label, confidence, colour (and room, once assigned).
+  VoxelGrid refined;    // The occupancy after the CRF: the grid the later stages use.
+  double seconds = 0;
+};
+
+// Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
+// options (the CRF variants of bench/voxelcrf_bench.cc) over the same evidence.
+Status SolveSemantic(const VoxelMap& map, const SemanticEvidence& evidence, const VoxelCrfModel& model,
+                     const VoxelCrfOptions& options, SemanticLabels* labels);
+
+}  // namespace semvox
