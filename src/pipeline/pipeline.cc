@@ -107,22 +107,12 @@ Status RoomsStage(const std::string& models_dir, PipelineResult* r) {
   r->plan = FloorPlanFromVoxels(r->final_grid(), r->map.floor_z, r->map.ceiling_z, r->occupancy, config.floor_plan);
   r->rooms = SegmentRooms(r->plan, config.rooms);
   if (!r->labels) return Status::Ok();
-  std::vector<ViewRoomEvidence> evidence;
-  for (const ClassifiedViewRoomEvidence& e : r->evidence->rooms) {
-    ViewRoomEvidence v;
-    v.position = e.position;
-    v.yaw_rad = e.yaw_rad;
-    v.hfov_rad = e.hfov_rad;
-    v.max_range_m = e.max_range_m;
-    v.p = e.p;
-    evidence.push_back(v);
-  }
   const ImageU16 topview = SemanticTopView(r->labels->map, r->map.grid, r->map.floor_z, config.occupancy.band_min_above_floor_m,
                                            config.occupancy.band_max_above_floor_m);
   RoomTypeCrfOptions rt = config.room_types;
   if (rt.model_path.empty()) rt.model_path = models_dir + "/room_type_crf.json";
   if (rt.shape_model_path.empty()) rt.shape_model_path = models_dir + "/room_shape.json";
-  Result<RoomTypesStageResult> typed = TypeRooms(r->plan, r->rooms, evidence, topview, rt);
+  Result<RoomTypesStageResult> typed = TypeRooms(r->plan, r->rooms, r->evidence->rooms, topview, rt);
   if (!typed.ok()) return typed.status();
   r->room_types = std::move(typed).value();
   // What rooms.png holds (split-off areas with their new ids).

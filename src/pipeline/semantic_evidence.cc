@@ -247,7 +247,7 @@ Status SemanticEvidenceBuilder::ClassifyViews(const std::vector<Eigen::Vector3d>
         SEMVOX_RETURN_IF_ERROR(slot.finish_hook());
         ++s.out.hooked_views;
       }
-      ClassifiedViewRoomEvidence r;
+      ViewRoomEvidence r;
       r.position = poses[b0 + k].p;
       r.yaw_rad = poses[b0 + k].yaw * M_PI / 180.0;
       r.hfov_rad = ClassifierViews::kHorizontalFovDeg * M_PI / 180.0;

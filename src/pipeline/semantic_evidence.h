@@ -25,6 +25,7 @@
 #include "render/view_renderer.h"
 #include "render/view_selection.h"
 #include "render/views.h"
+#include "rooms/room_type_crf.h"
 #include "voxelcrf/voxel_crf.h"
 #include "voxelcrf/voxel_evidence.h"
 
@@ -49,18 +50,11 @@ struct SemanticModels {
   static Result<SemanticModels> Load(const std::string& models_dir, VoxelCrfModelChoice crf_model);
 };
 
-// Room-type evidence of one classification view (for the room-type CRF).
-struct ClassifiedViewRoomEvidence {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  double yaw_rad = 0, hfov_rad = 0, max_range_m = 0;
-  std::array<double, 12> p{};  // room_types.tsv ids 1..12 (index id - 1).
-};
-
 // What the evidence building gives the solver, the room types and the summary.
 struct SemanticEvidence {
   VoxelCrfNodes nodes;                                 // The CRF's voxels.
   VoxelEvidence voxels;                                // Their evidence (with the object segments' term).
-  std::vector<ClassifiedViewRoomEvidence> rooms;       // Per used classification view.
+  std::vector<ViewRoomEvidence> rooms;                 // Room-type evidence per used classification view.
   ViewSelection selection;                             // Candidates and cover (kCover), or candidates only.
   int classification_views = 0, skipped_views = 0;
   int hooked_views = 0;                                // Classified views the view hook saw.
