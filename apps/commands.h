@@ -119,6 +119,7 @@ struct TrainArgs {
   std::string room_type_knn_classes = "truth";  // ... descriptors of the views' true or predicted (OUTDIR/second.*) classes.
   std::string r2v_dir;                      // R2V plans (empty: ../shared/data/r2v from the working directory).
   std::string segment_seeds = "0-99";       // Generator seeds the object-segment classifier learns on (randomised scans).
+  std::string segment_classifier = "knn";   // knn (object_segments.knn) or forest (object_segments.forest).
   std::string voxel_crf_seeds = "0-7";      // Generator seeds the Voxel-CRF weights are learned on.
   int voxel_crf_epochs = 12;                // Structural-SVM epochs.
   // Scans the Voxel-CRF weights learn on: flat (the generator's meshes), randomised (the training scans of
@@ -138,7 +139,7 @@ Status RunTrain(const TrainArgs& args);
 // (pipeline/voxel_crf_training.h).
 Status RunTrainVoxelCrf(const TrainArgs& args);
 
-// `semvox train --segments`: only models/object_segments.knn (and object_segments_report.json).
+// `semvox train --segments`: only models/object_segments.knn or .forest (and object_segments_report.json).
 Status RunTrainSegments(const TrainArgs& args);
 // `semvox train --room-shapes`: only models/room_shape.json (and room_shape_report.json), from R2V plans
 // 0-299; plans 300-399 validate.

@@ -115,6 +115,9 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--r2v-dir", train.r2v_dir, "R2V plans (plan_*.txt) for --room-shapes and the room-type statistics "
                         "(default ../shared/data/r2v, relative to the working directory)");
   train_cmd->add_option("--segment-seeds", train.segment_seeds, "generator seeds for the object-segment classifier, e.g. 0-99");
+  train_cmd->add_option("--segment-classifier", train.segment_classifier,
+                        "object-segment classifier: knn (object_segments.knn, shipped) or forest (object_segments.forest; `semvox run` prefers it when present)")
+      ->check(CLI::IsMember({"knn", "forest"}));
   train_cmd->add_option("--voxel-crf-seeds", train.voxel_crf_seeds, "generator seeds for the Voxel-CRF weights, e.g. 0-7");
   train_cmd->add_option("--voxel-crf-epochs", train.voxel_crf_epochs, "structural-SVM epochs of the Voxel-CRF")->check(CLI::PositiveNumber);
   train_cmd->add_option("--voxel-crf-style", train.voxel_crf_style,

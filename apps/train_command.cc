@@ -113,18 +113,21 @@ Status ForEachSegmentedView(uint64_t seed, const TrainingViewsOptions& views, co
 }
 
 // The object-segment classifier on randomised scans of --segment-seeds, scored on val_seeds; writes
-// OUT/object_segments.knn and returns the report's JSON.
+// OUT/object_segments.knn (or .forest, --segment-classifier) and returns the report's JSON.
 Result<nlohmann::json> TrainSegments(const TrainArgs& args, const std::vector<uint64_t>& val_seeds, const LabelLevel& level) {
   SegmentTrainingOptions so;
   SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.segment_seeds, "--segment-seeds", &so.train_seeds));
   so.val_seeds = val_seeds;
   so.scans.style = TrainingStyle::kRandomised;  // Segments always learn from randomised scans (cloud spacing, holes).
+  if (!ParseSegmentClassifierKind(args.segment_classifier, &so.classifier))
+    return Status::InvalidInput("--segment-classifier: expected knn or forest, got '" + args.segment_classifier + "'");
   SegmentTrainingSummary summary;
-  Result<KnnClassifier> seg = TrainSegmentClassifier(so, &summary);
+  Result<SegmentClassifier> seg = TrainSegmentClassifier(so, &summary);
   if (!seg.ok()) return seg.status();
-  SEMVOX_RETURN_IF_ERROR(seg->Save(args.outdir + "/object_segments.knn"));
+  SEMVOX_RETURN_IF_ERROR(seg->SaveToDirectory(args.outdir));
   nlohmann::json j;
   j["seeds"] = args.segment_seeds;
+  j["classifier"] = SegmentClassifierKindName(so.classifier);
   j["train_segments"] = summary.train_segments;
   j["val_segments"] = summary.val_segments;
   j["val_segment_accuracy"] = std::round(1e4 * summary.val_segment_accuracy) / 1e4;

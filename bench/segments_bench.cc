@@ -1,9 +1,9 @@
 // Object segments classified by shape (objects/object_segments.h): trains the k-NN on generated apartments
 // and/or classifies the segments of a scan, printing each segment with its shape and class.
 //
-//   segments_bench --train 0-39 --val 100-109 [-o MODEL.knn]
+//   segments_bench --train 0-39 --val 100-109 [-o DIR]           # k-NN into DIR/object_segments.knn
 //   segments_bench --train 0-39 --dump SEGMENTS.tsv                # only the labelled segments, no training
-//   segments_bench --model MODEL.knn --scan INPUT [--up z]      # segments of a real scan
+//   segments_bench --model MODEL.knn|MODEL.forest --scan INPUT [--up z]      # segments of a real scan
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -18,6 +18,7 @@
 #include "io/load_scene.h"
 #include "mapping/scene_frame.h"
 #include "mapping/voxelizer.h"
+#include "objects/random_forest.h"
 #include "objects/svm_classifier.h"
 #include "objects/segment_training.h"
 
@@ -95,6 +96,23 @@ int Compare(const std::string& files, const LabelLevel& level) {
     for (size_t i = 1; i < sets.size(); ++i)
       Score(paths[i].c_str(), sets[i], K, [&](const float* x) { return knn->Probabilities({x, size_t(kNumSegmentFeatures)}); });
   }
+  for (int mtry : {4, 6, 8})
+    for (bool balance : {false, true})
+      for (uint64_t seed : {1, 2}) {
+        RandomForestOptions o;
+        o.features_per_split = mtry, o.balance_classes = balance, o.seed = seed;
+        if (const char* t = std::getenv("SEGMENTS_BENCH_TREES")) o.trees = std::atoi(t);
+        if (const char* t = std::getenv("SEGMENTS_BENCH_MIN_LEAF")) o.min_leaf = std::atoi(t);
+        const auto t0 = std::chrono::steady_clock::now();
+        Result<RandomForest> rf = RandomForest::Train(sets[0].x, kNumSegmentFeatures, sets[0].y, K, o);
+        if (!rf.ok()) return 1;
+        std::printf("random forest: %d trees, %d features per split, %s, seed %d (%zu nodes, %.1f s)\n", o.trees, mtry,
+                    balance ? "balanced" : "unbalanced", int(seed), rf->num_nodes(),
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        for (size_t i = 1; i < sets.size(); ++i)
+          Score(paths[i].c_str(), sets[i], K, [&](const float* x) { return rf->Probabilities({x, size_t(kNumSegmentFeatures)}); });
+      }
+  if (std::getenv("SEGMENTS_BENCH_NO_SVM")) return 0;
   // SVM: classes with at least two rows only (libsvm's probability cross-validation).
   std::vector<int> count(size_t(K), 0), remap(size_t(K), -1), back;
   for (int y : sets[0].y) ++count[size_t(y)];
@@ -176,13 +194,13 @@ int main(int argc, char** argv) {
     if (!ParseSeedList(train, "--train", &o.train_seeds).ok() || !ParseSeedList(val.empty() ? "100-109" : val, "--val", &o.val_seeds).ok()) return 2;
     if (dump.empty()) {
       SegmentTrainingSummary s;
-      Result<KnnClassifier> clf = TrainSegmentClassifier(o, &s);
+      Result<SegmentClassifier> clf = TrainSegmentClassifier(o, &s);
       if (!clf.ok()) {
         std::fprintf(stderr, "segments_bench: %s\n", clf.status().message().c_str());
         return 1;
       }
       std::printf("%s%.1f s\n", s.ToText(level).c_str(), s.seconds);
-      if (!out.empty() && !clf->Save(out).ok()) return 1;
+      if (!out.empty() && !clf->SaveToDirectory(out).ok()) return 1;
     } else {  // Only the segments of the --train seeds, dumped (no training).  // The training segments: seed, class, voxels, features (tab-separated).
       FILE* f = std::fopen(dump.c_str(), "w");
       if (!f) return 1;
@@ -198,10 +216,11 @@ int main(int argc, char** argv) {
       }
       std::fclose(f);
     }
-    if (model.empty()) model = out;
+    if (model.empty()) model = out + "/" + SegmentClassifierFile(SegmentClassifierKind::kKnn);
   }
   if (!scan.empty()) {
-    Result<KnnClassifier> clf = KnnClassifier::Load(model);
+    Result<SegmentClassifier> clf =
+        SegmentClassifier::Load(model, model.ends_with(".forest") ? SegmentClassifierKind::kForest : SegmentClassifierKind::kKnn);
     if (!clf.ok()) {
       std::fprintf(stderr, "segments_bench: %s\n", clf.status().message().c_str());
       return 1;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <optional>
 
 #include "eval/evaluate.h"
 #include "mapping/voxelizer.h"
@@ -65,15 +66,23 @@ Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, st
   return Status::Ok();
 }
 
-Result<KnnClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary) {
+Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary) {
   const auto t0 = std::chrono::steady_clock::now();
   const LabelLevel level = SecondLevel();
   std::vector<float> features;
   std::vector<int> classes, voxels;
   for (uint64_t seed : options.train_seeds) SEMVOX_RETURN_IF_ERROR(LabelledSegments(seed, options, &features, &classes, &voxels));
   if (classes.empty()) return Status::InvalidInput("object segments: no labelled training segment");
-  Result<KnnClassifier> clf = KnnClassifier::Train(features, kNumSegmentFeatures, classes, level.num_classes(), options.knn);
-  if (!clf.ok()) return clf.status();
+  std::optional<SegmentClassifier> clf;
+  if (options.classifier == SegmentClassifierKind::kForest) {
+    Result<RandomForest> rf = RandomForest::Train(features, kNumSegmentFeatures, classes, level.num_classes(), options.forest);
+    if (!rf.ok()) return rf.status();
+    clf.emplace(std::move(rf).value());
+  } else {
+    Result<KnnClassifier> knn = KnnClassifier::Train(features, kNumSegmentFeatures, classes, level.num_classes(), options.knn);
+    if (!knn.ok()) return knn.status();
+    clf.emplace(std::move(knn).value());
+  }
   SegmentTrainingSummary s;
   s.train_segments = int(classes.size());
   s.val_voxels = ConfusionMatrix(level.num_classes());
@@ -93,7 +102,7 @@ Result<KnnClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& optio
   s.val_segment_accuracy = s.val_segments > 0 ? double(correct) / s.val_segments : 0.0;
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (summary) *summary = s;
-  return clf;
+  return std::move(*clf);
 }
 
 }  // namespace semvox

@@ -3,14 +3,15 @@
 //
 //   SegmentTrainingOptions o;  o.train_seeds = {0, ..., 39};  o.val_seeds = {100, ..., 109};
 //   SegmentTrainingSummary s;
-//   Result<KnnClassifier> clf = TrainSegmentClassifier(o, &s);   // second-level classes (training_data.h)
+//   Result<SegmentClassifier> clf = TrainSegmentClassifier(o, &s);   // second-level classes (training_data.h)
 //
 // Each apartment is scanned as the randomised training views see it (MakeTrainingScan: a simulated fused
 // cloud of random spacing or a mesh with random artefacts), voxelised as `semvox run` does, and segmented;
 // a segment's class is the majority second-level class of its voxels in the clean mesh's voxelisation
 // (when it covers at least `min_purity` of its labelled voxels and at least a quarter of its voxels have a
-// label). The k-NN (k = 10, Eq. 4 of the MST-CRF paper, standardised features) learns from the training
-// segments; the summary scores it on the validation segments, voxel-weighted.
+// label). The k-NN (k = 10, Eq. 4 of the MST-CRF paper, standardised features) or the random forest
+// (`classifier`) learns from the training segments; the summary scores it on the validation segments,
+// voxel-weighted.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +20,8 @@
 
 #include "core/status.h"
 #include "objects/object_segments.h"
+#include "objects/random_forest.h"
+#include "objects/segment_classifier.h"
 #include "perception/knn_unary.h"
 #include "perception/training_data.h"
 #include "perception/view_classifier.h"
@@ -36,7 +39,9 @@ struct SegmentTrainingOptions {
   SegmentOptions segments;
   double voxel_size_m = 0.05;       // As `semvox run`'s default. > 0.
   double min_purity = 0.5;          // (0, 1].
-  KnnOptions knn;
+  SegmentClassifierKind classifier = SegmentClassifierKind::kKnn;
+  KnnOptions knn;                   // For kKnn.
+  RandomForestOptions forest;       // For kForest.
 };
 
 struct SegmentTrainingSummary {
@@ -52,6 +57,6 @@ struct SegmentTrainingSummary {
 Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, std::vector<float>* features,
                         std::vector<int>* classes, std::vector<int>* voxels);
 
-Result<KnnClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary);
+Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary);
 
 }  // namespace semvox

@@ -12,6 +12,7 @@
 #include "core/file_util.h"
 #include "core/log.h"
 #include "objects/object_segments.h"
+#include "objects/segment_classifier.h"
 #include "perception/classifier_views.h"
 #include "perception/knn_unary.h"
 #include "perception/room_evidence.h"
@@ -38,14 +39,15 @@ Result<SemanticModels> SemanticModels::Load(const std::string& models_dir, Voxel
   if (!room.ok()) return room.status();
   m.room_knn = std::make_shared<const KnnClassifier>(std::move(room).value());
   std::error_code ec;
-  if (const std::string segment_path = models_dir + "/object_segments.knn"; fs::exists(segment_path, ec)) {
-    Result<KnnClassifier> seg = KnnClassifier::Load(segment_path);
-    if (!seg.ok()) return seg.status();
-    if (seg->dims() != kNumSegmentFeatures || seg->num_classes() != m.level.num_classes())
-      return Status::InvalidInput(FileError(segment_path, "not an object-segment model for the second-level classes", "re-run `semvox train`"));
-    m.segment_knn = std::make_shared<const KnnClassifier>(std::move(seg).value());
+  Result<std::optional<SegmentClassifier>> seg = SegmentClassifier::LoadFromDirectory(models_dir);
+  if (!seg.ok()) return seg.status();
+  if (seg->has_value()) {
+    if ((*seg)->dims() != kNumSegmentFeatures || (*seg)->num_classes() != m.level.num_classes())
+      return Status::InvalidInput(FileError(models_dir + "/" + SegmentClassifierFile((*seg)->kind()),
+                                            "not an object-segment model for the second-level classes", "re-run `semvox train`"));
+    m.segments = std::make_shared<const SegmentClassifier>(std::move(**seg));
   } else {
-    SEMVOX_WARN(segment_path << ": not found; the Voxel-CRF runs without the object-segment term (run `semvox train`)");
+    SEMVOX_WARN(models_dir << "/object_segments.knn: not found; the Voxel-CRF runs without the object-segment term (run `semvox train`)");
   }
   std::string model_path = models_dir + "/voxel_crf.txt";
   if (crf_model == VoxelCrfModelChoice::kCloud) {
@@ -267,7 +269,7 @@ SemanticEvidence SemanticEvidenceBuilder::Finish() && {
   Impl& s = *impl_;
   s.out.voxels = std::move(*s.acc).Finish();
   s.acc.reset();
-  if (!s.models->segment_knn) return std::move(s.out);
+  if (!s.models->segments) return std::move(s.out);
   // Object segments of the map, classified by shape: their probabilities on the segments' CRF nodes.
   const auto t0 = Clock::now();
   const SegmentationResult seg = SegmentObjects(s.map->grid, s.map->floor_z, s.map->ceiling_z, s.map->ceiling_found, SegmentOptions{});
@@ -275,7 +277,7 @@ SemanticEvidence SemanticEvidenceBuilder::Finish() && {
   s.out.voxels.segment.assign(s.out.nodes.size() * size_t(K), 0.f);
   std::vector<std::vector<double>> p(seg.segments.size());
   tbb::parallel_for(size_t(0), seg.segments.size(), [&](size_t i) {
-    p[i] = s.models->segment_knn->Probabilities({seg.segments[i].features.data(), seg.segments[i].features.size()});
+    p[i] = s.models->segments->Probabilities({seg.segments[i].features.data(), seg.segments[i].features.size()});
   });
   for (size_t i = 0; i < seg.segments.size(); ++i)
     for (uint32_t v : seg.segments[i].voxels) {

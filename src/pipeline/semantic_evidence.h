@@ -34,6 +34,7 @@ namespace semvox {
 struct ViewClassification;  // perception/view_classifier.h
 class ViewClassifier;       // perception/view_classifier.h
 class KnnClassifier;        // perception/knn_unary.h
+class SegmentClassifier;    // objects/segment_classifier.h
 struct OnnxModels;          // pipeline/onnx_stage.h
 
 // The model files of the semantic stage.
@@ -41,7 +42,7 @@ struct SemanticModels {
   LabelLevel level;                                    // The per-view classifier's classes (SecondLevel()).
   std::shared_ptr<const ViewClassifier> classifier;   // second.*
   std::shared_ptr<const KnnClassifier> room_knn;      // room_type_knn.bin
-  std::shared_ptr<const KnnClassifier> segment_knn;   // object_segments.knn; null when absent (no segment term).
+  std::shared_ptr<const SegmentClassifier> segments;   // object_segments.forest or .knn; null when absent (no segment term).
   VoxelCrfModel crf;                                   // voxel_crf.txt or voxel_crf_cloud.txt, else untrained defaults.
   std::string crf_file;                                // File name of the loaded CRF model; "" for the defaults.
 

@@ -1,0 +1,70 @@
+#include "objects/segment_classifier.h"
+
+#include <filesystem>
+
+#include "objects/random_forest.h"
+#include "perception/knn_unary.h"
+
+namespace semvox {
+
+namespace fs = std::filesystem;
+
+const char* SegmentClassifierKindName(SegmentClassifierKind kind) { return kind == SegmentClassifierKind::kForest ? "forest" : "knn"; }
+
+bool ParseSegmentClassifierKind(const std::string& name, SegmentClassifierKind* kind) {
+  if (name == "knn") *kind = SegmentClassifierKind::kKnn;
+  else if (name == "forest") *kind = SegmentClassifierKind::kForest;
+  else return false;
+  return true;
+}
+
+std::string SegmentClassifierFile(SegmentClassifierKind kind) { return std::string("object_segments.") + SegmentClassifierKindName(kind); }
+
+SegmentClassifier::SegmentClassifier(KnnClassifier knn) : knn_(std::make_unique<KnnClassifier>(std::move(knn))) {}
+SegmentClassifier::SegmentClassifier(RandomForest forest) : forest_(std::make_unique<RandomForest>(std::move(forest))) {}
+SegmentClassifier::SegmentClassifier(SegmentClassifier&&) noexcept = default;
+SegmentClassifier& SegmentClassifier::operator=(SegmentClassifier&&) noexcept = default;
+SegmentClassifier::~SegmentClassifier() = default;
+
+SegmentClassifierKind SegmentClassifier::kind() const { return forest_ ? SegmentClassifierKind::kForest : SegmentClassifierKind::kKnn; }
+int SegmentClassifier::dims() const { return forest_ ? forest_->dims() : knn_->dims(); }
+int SegmentClassifier::num_classes() const { return forest_ ? forest_->num_classes() : knn_->num_classes(); }
+
+std::vector<double> SegmentClassifier::Probabilities(std::span<const float> features) const {
+  return forest_ ? forest_->Probabilities(features) : knn_->Probabilities(features);
+}
+
+Status SegmentClassifier::SaveToDirectory(const std::string& dir) const {
+  const SegmentClassifierKind other = kind() == SegmentClassifierKind::kForest ? SegmentClassifierKind::kKnn : SegmentClassifierKind::kForest;
+  const std::string path = dir + "/" + SegmentClassifierFile(kind());
+  SEMVOX_RETURN_IF_ERROR(forest_ ? forest_->Save(path) : knn_->Save(path));
+  std::error_code ec;
+  fs::remove(dir + "/" + SegmentClassifierFile(other), ec);
+  if (ec) return Status::InvalidInput(FileError(dir + "/" + SegmentClassifierFile(other), "cannot remove the other segment model: " + ec.message()));
+  return Status::Ok();
+}
+
+Result<SegmentClassifier> SegmentClassifier::Load(const std::string& path, SegmentClassifierKind kind) {
+  if (kind == SegmentClassifierKind::kForest) {
+    Result<RandomForest> rf = RandomForest::Load(path);
+    if (!rf.ok()) return rf.status();
+    return SegmentClassifier(std::move(rf).value());
+  }
+  Result<KnnClassifier> knn = KnnClassifier::Load(path);
+  if (!knn.ok()) return knn.status();
+  return SegmentClassifier(std::move(knn).value());
+}
+
+Result<std::optional<SegmentClassifier>> SegmentClassifier::LoadFromDirectory(const std::string& dir) {
+  for (SegmentClassifierKind kind : {SegmentClassifierKind::kForest, SegmentClassifierKind::kKnn}) {
+    const std::string path = dir + "/" + SegmentClassifierFile(kind);
+    std::error_code ec;
+    if (!fs::exists(path, ec)) continue;
+    Result<SegmentClassifier> clf = Load(path, kind);
+    if (!clf.ok()) return clf.status();
+    return std::optional<SegmentClassifier>(std::move(clf).value());
+  }
+  return std::optional<SegmentClassifier>();
+}
+
+}  // namespace semvox

@@ -1,0 +1,76 @@
+#include "objects/segment_classifier.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "objects/random_forest.h"
+#include "core/file_util.h"
+#include "perception/knn_unary.h"
+#include "tests/test_util.h"
+
+namespace semvox {
+namespace {
+
+// Two classes on one feature: x < 0.5 is class 0.
+std::vector<float> X() { return {0.1f, 0.2f, 0.3f, 0.7f, 0.8f, 0.9f}; }
+std::vector<int> Y() { return {0, 0, 0, 1, 1, 1}; }
+
+SegmentClassifier Knn() {
+  KnnOptions o;
+  o.k = 3;
+  return SegmentClassifier(KnnClassifier::Train(X(), 1, Y(), 2, o).value());
+}
+SegmentClassifier Forest() {
+  RandomForestOptions o;
+  o.trees = 5;
+  o.features_per_split = 1;
+  return SegmentClassifier(RandomForest::Train(X(), 1, Y(), 2, o).value());
+}
+
+TEST(SegmentClassifier, BothKindsClassifyAndSaveUnderTheirOwnName) {
+  for (const SegmentClassifier& clf : {Knn(), Forest()}) {
+    const float lo = 0.15f, hi = 0.85f;
+    EXPECT_GT(clf.Probabilities({&lo, 1})[0], 0.9);
+    EXPECT_GT(clf.Probabilities({&hi, 1})[1], 0.9);
+    EXPECT_EQ(clf.dims(), 1);
+    EXPECT_EQ(clf.num_classes(), 2);
+  }
+  EXPECT_EQ(SegmentClassifierFile(SegmentClassifierKind::kKnn), "object_segments.knn");
+  EXPECT_EQ(SegmentClassifierFile(SegmentClassifierKind::kForest), "object_segments.forest");
+  SegmentClassifierKind kind;
+  EXPECT_TRUE(ParseSegmentClassifierKind("forest", &kind));
+  EXPECT_EQ(kind, SegmentClassifierKind::kForest);
+  EXPECT_FALSE(ParseSegmentClassifierKind("svm", &kind));
+}
+
+TEST(SegmentClassifier, ADirectoryHoldsOnlyTheModelLastSavedAndLoadsIt) {
+  testing::ScratchDir dir("segment_classifier");
+  const std::string d = dir.File("");
+  Result<std::optional<SegmentClassifier>> none = SegmentClassifier::LoadFromDirectory(d);
+  ASSERT_TRUE(none.ok());
+  EXPECT_FALSE(none->has_value());
+
+  ASSERT_TRUE(Forest().SaveToDirectory(d).ok());
+  EXPECT_TRUE(std::filesystem::exists(d + "/object_segments.forest"));
+  ASSERT_TRUE(Knn().SaveToDirectory(d).ok());  // Replaces the forest: the run must use what was trained last.
+  EXPECT_FALSE(std::filesystem::exists(d + "/object_segments.forest"));
+  Result<std::optional<SegmentClassifier>> knn = SegmentClassifier::LoadFromDirectory(d);
+  ASSERT_TRUE(knn.ok() && knn->has_value());
+  EXPECT_EQ((*knn)->kind(), SegmentClassifierKind::kKnn);
+
+  ASSERT_TRUE(Forest().SaveToDirectory(d).ok());
+  EXPECT_FALSE(std::filesystem::exists(d + "/object_segments.knn"));
+  Result<std::optional<SegmentClassifier>> forest = SegmentClassifier::LoadFromDirectory(d);
+  ASSERT_TRUE(forest.ok() && forest->has_value());
+  EXPECT_EQ((*forest)->kind(), SegmentClassifierKind::kForest);
+
+  // A broken model is an error naming the file, not a silent fallback to no segment term.
+  ASSERT_TRUE(WriteFileAtomic(d + "/object_segments.forest", "semvox_random_forest 1\n1 2 1 0.001\ntree 1\nX\n").ok());
+  Result<std::optional<SegmentClassifier>> bad = SegmentClassifier::LoadFromDirectory(d);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("object_segments.forest"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace semvox
