@@ -112,6 +112,8 @@ struct TrainArgs {
   int crf_holdout = 5;                      // Last training seeds kept out of the k-NN for CRF weight learning.
   bool voxel_crf_only = false;              // Train only the Voxel-CRF (needs the per-view models in outdir).
   bool segments_only = false;               // Train only the object-segment classifier.
+  bool room_type_evidence_only = false;     // Relearn only the room-type CRF's evidence terms on R2V plan apartments.
+  std::string room_type_evidence_seeds = "40-79";  // ... and on these generated apartments (neither the classifiers' nor validation).
   bool room_shapes_only = false;            // Train only the room-shape model (real R2V plans).
   bool room_type_statistics_only = false;   // Recompute the R2V fixture statistics of OUTDIR/room_type_crf.json.
   bool room_type_knn_only = false;          // Rebuild OUTDIR/room_type_knn.bin from generated apartments + R2V plans.
@@ -152,6 +154,11 @@ Status RunTrainRoomTypeStatistics(const TrainArgs& args);
 // classes of the training views of the --train-seeds apartments (as `semvox train` builds it) and of apartments
 // built on the first --room-type-plans sorted R2V plans (real layouts, furnished by room type).
 Status RunTrainRoomTypeKnn(const TrainArgs& args);
+// `semvox train --room-type-evidence`: OUTDIR/room_type_crf.json's learned evidence terms (the confusion of Eq. 3,
+// the SSVM weights of every variant, the dense-CRF parameters) relearned on apartments built on the first
+// --room-type-plans sorted R2V training plans and on the generated apartments --room-type-evidence-seeds, their
+// training views classified by OUTDIR/second.* and typed by OUTDIR/room_type_knn.bin; its statistics stay.
+Status RunTrainRoomTypeEvidence(const TrainArgs& args);
 // "A-B" or "A,B,..." -> seeds.
 Status ParseSeedList(const std::string& text, const char* flag, std::vector<uint64_t>* seeds);
 

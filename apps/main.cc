@@ -105,8 +105,16 @@ int main(int argc, char** argv) {
   train_cmd->add_flag("--room-type-knn", train.room_type_knn_only,
                       "rebuild only the per-view room-type k-NN (room_type_knn.bin) from the training seeds' views and "
                       "apartments built on R2V plans 0-299 (--room-type-plans)");
+  train_cmd->add_flag("--room-type-evidence", train.room_type_evidence_only,
+                      "relearn only the room-type CRF's evidence terms (confusion, SSVM weights, dense CRF) in room_type_crf.json "
+                      "on apartments built on R2V plans 0-299 (--room-type-plans), their views classified by the models in the "
+                      "output directory; the statistics stay");
+  train_cmd->add_option("--room-type-evidence-seeds", train.room_type_evidence_seeds,
+                        "generated apartments --room-type-evidence learns on beside the plans (default 40-79: apartments neither "
+                        "the per-view classifier nor the room-type k-NN saw; empty: plans only)");
   train_cmd->add_option("--room-type-plans", train.room_type_plans,
-                        "R2V training plans (the first N sorted, at most 300) whose apartments add rows to the room-type k-NN")
+                        "R2V training plans (the first N sorted, at most 300) whose apartments add rows to the room-type k-NN "
+                        "(--room-type-knn) or teach the room-type evidence terms (--room-type-evidence)")
       ->check(CLI::Range(0, 300));
   train_cmd->add_option("--room-type-knn-classes", train.room_type_knn_classes,
                         "--room-type-knn rows from the true classes of each view (truth, as `semvox train`) or from those the "
@@ -216,6 +224,7 @@ int main(int argc, char** argv) {
                     : train.room_shapes_only ? semvox::RunTrainRoomShapes(train)
                     : train.room_type_statistics_only ? semvox::RunTrainRoomTypeStatistics(train)
                     : train.room_type_knn_only ? semvox::RunTrainRoomTypeKnn(train)
+                    : train.room_type_evidence_only ? semvox::RunTrainRoomTypeEvidence(train)
                                           : semvox::RunTrain(train));
     if (*report_cmd) return Report(semvox::RunReport(report));
     if (*remove_cmd) return Report(semvox::RunRemove(remove_args));

@@ -184,6 +184,61 @@ Status RunTrainRoomTypeStatistics(const TrainArgs& args) {
   return Status::Ok();
 }
 
+Status RunTrainRoomTypeEvidence(const TrainArgs& args) {
+  const std::string dir = R2vDirectory(args);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    return Status::InvalidInput(FileError(dir, "no such directory (the R2V plans)", "pass --r2v-dir DIR, or run from the source tree's root"));
+  std::vector<std::string> plans = ListR2vPlans(dir);
+  plans.resize(std::min(plans.size(), size_t(std::min(args.room_type_plans, kR2vTrainingPlans))));
+  if (plans.empty()) return Status::InvalidInput(FileError(dir, "no R2V plan to learn from", "pass --room-type-plans N with N >= 1"));
+  Result<ViewClassifier> classifier = ViewClassifier::Load(args.outdir + "/second", ViewClassifierOptions{});
+  if (!classifier.ok()) return classifier.status();
+  Result<KnnClassifier> room_knn = KnnClassifier::Load(args.outdir + "/room_type_knn.bin");
+  if (!room_knn.ok()) return room_knn.status();
+  const std::string path = args.outdir + "/room_type_crf.json";
+  Result<RoomTypeModel> model = LoadRoomTypeModel(path);
+  if (!model.ok()) return model.status();
+  const auto t0 = std::chrono::steady_clock::now();
+  int skipped = 0;
+  Result<std::vector<RoomTypeTrainingScene>> scenes =
+      PlanEvidenceScenes(plans, *classifier, *room_knn, kRoomViewRangeM, kRoomMinObjectFraction, &skipped);
+  if (!scenes.ok()) return scenes.status();
+  if (scenes->empty()) return Status::InvalidInput(FileError(dir, "none of the plans could be built into an apartment", "check the R2V files"));
+  const size_t plan_scenes = scenes->size();
+  std::vector<uint64_t> seeds, val_seeds;
+  if (!args.room_type_evidence_seeds.empty())
+    SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.room_type_evidence_seeds, "--room-type-evidence-seeds", &seeds));
+  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.val_seeds, "--val-seeds", &val_seeds));
+  for (uint64_t s : seeds)
+    if (std::find(val_seeds.begin(), val_seeds.end(), s) != val_seeds.end())
+      return Status::InvalidInput("--room-type-evidence-seeds: seed " + std::to_string(s) + " is a validation apartment (--val-seeds " +
+                                  args.val_seeds + "); hint: 40-79");
+  Result<std::vector<RoomTypeTrainingScene>> generated =
+      GeneratedEvidenceScenes(seeds, *classifier, *room_knn, kRoomViewRangeM, kRoomMinObjectFraction);
+  if (!generated.ok()) return generated.status();
+  for (RoomTypeTrainingScene& s : *generated) scenes->push_back(std::move(s));
+  size_t views = 0;
+  for (const RoomTypeTrainingScene& s : *scenes) views += s.views.size();
+  SEMVOX_INFO("train: room-type evidence: " << plan_scenes << " plan apartments (" << skipped << " plans skipped) and " << seeds.size()
+                                            << " generated apartments, " << views << " classified views");
+  RoomTypeTrainingOptions rt;
+  rt.min_object_fraction = kRoomMinObjectFraction;
+  const std::string report = LearnRoomTypeEvidenceTerms(*scenes, AllRoomTypeVariants(), rt, &*model);
+  // The provenance names where the learned terms now come from.
+  std::string& prov = model->provenance;
+  const std::string now = "confusion, SSVM weights and dense-CRF parameters from " + std::to_string(plan_scenes) +
+                          " apartments built on R2V training plans 0-" + std::to_string(plans.size() - 1) + " and generated apartments " +
+                          args.room_type_evidence_seeds + " (classified training views, room-type k-NN of room_type_knn.bin)";
+  static const std::regex kLearned("confusion, SSVM weights and dense-CRF parameters from .*$");
+  prov = std::regex_search(prov, kLearned) ? std::regex_replace(prov, kLearned, now) : prov + "; " + now;
+  SEMVOX_RETURN_IF_ERROR(SaveRoomTypeModel(*model, path));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%s: evidence terms from %zu plan apartments and %zu generated apartments (%zu views, %d plans skipped) in %.1f s\n%s",
+              path.c_str(), plan_scenes, seeds.size(), views, skipped, seconds, report.c_str());
+  return Status::Ok();
+}
+
 Status RunTrainRoomTypeKnn(const TrainArgs& args) {
   std::vector<uint64_t> seeds;
   SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.train_seeds, "--train-seeds", &seeds));

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "core/file_util.h"
@@ -92,6 +93,11 @@ Result<RoomTypeTrainingScene> RoomTypeSceneFromApartment(uint64_t seed, const Ro
   ao.seed = seed;
   Result<Apartment> a = GenerateApartment(ao);
   if (!a.ok()) return a.status();
+  return RoomTypeSceneOf(*a, segmentation);
+}
+
+RoomTypeTrainingScene RoomTypeSceneOf(const Apartment& apartment, const RoomSegmentationOptions& segmentation) {
+  const Apartment* a = &apartment;
   RoomTypeTrainingScene s;
   s.plan = FloorPlanFromApartment(*a);
   s.rooms = SegmentRooms(s.plan, segmentation);
@@ -107,6 +113,77 @@ Result<RoomTypeTrainingScene> RoomTypeSceneFromApartment(uint64_t seed, const Ro
   for (size_t i = 0; i < rooms.data.size(); ++i)
     if (rooms.data[i]) s.truth.data[i] = uint16_t(type_of[rooms.data[i]]);
   return s;
+}
+
+Result<std::vector<RoomTypeTrainingScene>> GeneratedEvidenceScenes(const std::vector<uint64_t>& seeds, const ViewClassifier& second_level,
+                                                                   const KnnClassifier& room_knn, double max_range_m,
+                                                                   double min_object_fraction) {
+  const LabelLevel level = SecondLevel();
+  const std::vector<bool> object_classes = RoomObjectClasses(level.class_names);
+  const TrainingViewsOptions views;
+  std::vector<Result<RoomTypeTrainingScene>> out(seeds.size(), Result<RoomTypeTrainingScene>(Status::Internal("not built")));
+  tbb::parallel_for(size_t(0), seeds.size(), [&](size_t k) {
+    Result<RoomTypeTrainingScene> s = RoomTypeSceneFromApartment(seeds[k]);
+    if (!s.ok()) {
+      out[k] = s.status();
+      return;
+    }
+    const Status st = ForEachApartmentView(seeds[k], views, [&](const LabelledView& v) {
+      Result<ViewClassification> c = second_level.Classify(*v.view);
+      if (!c.ok()) return c.status();
+      const RoomViewRecord r = MakeRoomViewRecord(v, PixelLabels(c->superpixels, c->tree_labels), level.num_classes(), object_classes, max_range_m);
+      s->views.push_back(RoomViewEvidence(room_knn, r, min_object_fraction));
+      return Status::Ok();
+    });
+    out[k] = st.ok() ? std::move(s) : Result<RoomTypeTrainingScene>(st);
+  });
+  std::vector<RoomTypeTrainingScene> scenes;
+  for (auto& r : out) {
+    if (!r.ok()) return r.status();
+    scenes.push_back(std::move(r).value());
+  }
+  return scenes;
+}
+
+Result<std::vector<RoomTypeTrainingScene>> PlanEvidenceScenes(const std::vector<std::string>& plans, const ViewClassifier& second_level,
+                                                              const KnnClassifier& room_knn, double max_range_m,
+                                                              double min_object_fraction, int* skipped) {
+  const LabelLevel level = SecondLevel();
+  const std::vector<bool> object_classes = RoomObjectClasses(level.class_names);
+  const TrainingViewsOptions views;
+  struct Unit {
+    std::optional<RoomTypeTrainingScene> scene;
+    Status status = Status::Ok();
+  };
+  std::vector<Unit> units(plans.size());
+  tbb::parallel_for(size_t(0), plans.size(), [&](size_t k) {
+    Unit& u = units[k];
+    int unclosed = 0;
+    Result<PlanLayout> layout = LayoutOfR2vPlan(plans[k], &unclosed);
+    if (!layout.ok()) return;
+    PlanApartmentOptions options;
+    options.seed = kPlanViewSeedBase + k;
+    Result<Apartment> apartment = ApartmentFromLayout(*layout, options);
+    if (!apartment.ok()) return;
+    RoomTypeTrainingScene s = RoomTypeSceneOf(*apartment);
+    u.status = ForEachViewOfApartment(*apartment, options.seed, views, [&](const LabelledView& v) {
+      Result<ViewClassification> c = second_level.Classify(*v.view);
+      if (!c.ok()) return c.status();
+      const RoomViewRecord r = MakeRoomViewRecord(v, PixelLabels(c->superpixels, c->tree_labels), level.num_classes(), object_classes, max_range_m);
+      s.views.push_back(RoomViewEvidence(room_knn, r, min_object_fraction));
+      return Status::Ok();
+    });
+    if (u.status.ok()) u.scene = std::move(s);
+  });
+  std::vector<RoomTypeTrainingScene> scenes;
+  int missing = 0;
+  for (Unit& u : units) {
+    SEMVOX_RETURN_IF_ERROR(u.status);
+    if (u.scene) scenes.push_back(std::move(*u.scene));
+    else ++missing;
+  }
+  if (skipped) *skipped = missing;
+  return scenes;
 }
 
 ObjectRoomCounts CountApartmentObjects(const Apartment& a) {

@@ -31,6 +31,8 @@ FloorPlan FloorPlanFromApartment(const Apartment& apartment, double resolution_m
 
 // Plan, segmentation (default options), top view and true types of generated apartment `seed` (views empty).
 Result<RoomTypeTrainingScene> RoomTypeSceneFromApartment(uint64_t seed, const RoomSegmentationOptions& segmentation = {});
+// The same for a given apartment (one built on a real plan, say).
+RoomTypeTrainingScene RoomTypeSceneOf(const Apartment& apartment, const RoomSegmentationOptions& segmentation = {});
 
 // Rooms of each type and how many of them hold each NYU40 object class (generator ground truth).
 ObjectRoomCounts CountApartmentObjects(const Apartment& apartment);
@@ -110,6 +112,24 @@ Result<KnnClassifier> RoomKnnWithout(const std::vector<float>& room_rows, const 
 Status ClassifiedApartmentRecords(uint64_t seed, const TrainingViewsOptions& views, const ViewClassifier& second_level,
                                   double max_range_m, std::vector<RoomViewRecord>* records, std::vector<float>* truth_rows,
                                   std::vector<int>* truth_labels);
+
+// Scenes of apartments built on the R2V plans `plans` (real layouts with their fixtures, furnished by room
+// type; plan k, in the given order, draws its colours and views from kPlanViewSeedBase + k, as RoomTypeKnnRows),
+// each with the evidence of its training views: classified by `second_level` (tree CRF classes), described
+// and given to `room_knn` (RoomViewEvidence with `min_object_fraction`), so that the terms learned on them
+// (LearnRoomTypeEvidenceTerms) see what the classifiers make of real layouts. `room_knn` must not hold rows
+// of these apartments (the shipped k-NN holds generated apartments only). Plans that cannot be built are
+// skipped and counted. Both cores; scenes in plan order.
+Result<std::vector<RoomTypeTrainingScene>> PlanEvidenceScenes(const std::vector<std::string>& plans, const ViewClassifier& second_level,
+                                                              const KnnClassifier& room_knn, double max_range_m,
+                                                              double min_object_fraction, int* skipped = nullptr);
+
+// The same for generated apartments `seeds` (their classified training views; the seeds should be neither
+// the per-view classifier's nor `room_knn`'s training apartments, so that the evidence is what a new
+// apartment gets). Both cores; scenes in seed order.
+Result<std::vector<RoomTypeTrainingScene>> GeneratedEvidenceScenes(const std::vector<uint64_t>& seeds, const ViewClassifier& second_level,
+                                                                   const KnnClassifier& room_knn, double max_range_m,
+                                                                   double min_object_fraction);
 
 struct RoomTypeTrainingOptions {
   RoomTypeCrfOptions crf;              // Graph options for training.

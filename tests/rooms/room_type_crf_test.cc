@@ -21,6 +21,7 @@
 #include <random>
 
 #include "perception/room_evidence.h"
+#include "perception/view_classifier.h"
 #include "rooms/r2v_plan.h"
 #include "rooms/room_type_crf.h"
 #include "rooms/room_type_training.h"
@@ -345,6 +346,48 @@ TEST(RoomTypeTraining, KnnRowsOfRealPlansAreTheirTypedRoomsViews) {
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(again->y, rows->y);
   EXPECT_EQ(again->x, rows->x);
+}
+
+TEST(RoomTypeTraining, PlanEvidenceScenesHoldEachPlanApartmentsRoomsTypesAndClassifiedViews) {
+  const std::string r2v = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/r2v";
+  if (!std::filesystem::exists(r2v + "/plan_0000.txt")) GTEST_SKIP() << "R2V plans not found in " << r2v;
+  std::vector<std::string> plans = ListR2vPlans(r2v);
+  ASSERT_GE(plans.size(), size_t(2));
+  plans.resize(2);
+  const std::string not_a_plan = testing::TempDir() + "/not_a_plan_evidence.txt";
+  { std::ofstream(not_a_plan) << "0 0 10 10 sofa\n"; }
+  plans.push_back(not_a_plan);
+  Result<ViewClassifier> clf = ViewClassifier::Load(std::string(SEMVOX_SOURCE_DIR) + "/models/second", ViewClassifierOptions{});
+  ASSERT_TRUE(clf.ok()) << clf.status().message();
+  Result<KnnClassifier> knn = KnnClassifier::Load(std::string(SEMVOX_SOURCE_DIR) + "/models/room_type_knn.bin");
+  ASSERT_TRUE(knn.ok()) << knn.status().message();
+  int skipped = -1;
+  Result<std::vector<RoomTypeTrainingScene>> scenes = PlanEvidenceScenes(plans, *clf, *knn, kRoomViewRangeM, kRoomMinObjectFraction, &skipped);
+  ASSERT_TRUE(scenes.ok()) << scenes.status().message();
+  ASSERT_EQ(scenes->size(), 2u);
+  EXPECT_EQ(skipped, 1);
+  for (const RoomTypeTrainingScene& s : *scenes) {
+    // Every classified view carries a distribution over the room types; the truth holds typed rooms.
+    EXPECT_GE(s.views.size(), size_t(4));
+    for (const ViewRoomEvidence& v : s.views) {
+      double sum = 0;
+      for (double p : v.p) sum += p;
+      EXPECT_NEAR(sum, 1.0, 1e-6);
+    }
+    int typed = 0;
+    for (uint16_t t : s.truth.data) typed += t >= 1 && t <= kRoomTypeLabels;
+    EXPECT_GT(typed, 1000);  // Over 2.5 m² of typed floor at 5 cm.
+    EXPECT_EQ(s.truth.width, s.plan.cells.width);
+    EXPECT_GE(s.rooms.num_rooms, 2);
+  }
+  // Generated apartments the same way, in seed order.
+  Result<std::vector<RoomTypeTrainingScene>> generated = GeneratedEvidenceScenes({40}, *clf, *knn, kRoomViewRangeM, kRoomMinObjectFraction);
+  ASSERT_TRUE(generated.ok()) << generated.status().message();
+  ASSERT_EQ(generated->size(), 1u);
+  Result<RoomTypeTrainingScene> bare = RoomTypeSceneFromApartment(40);
+  ASSERT_TRUE(bare.ok());
+  EXPECT_EQ((*generated)[0].truth.data, bare->truth.data);
+  EXPECT_GE((*generated)[0].views.size(), size_t(8));
 }
 
 TEST(RoomTypeTraining, ShippedRoomKnnIsTheTrainingApartmentsTrueClasses) {
