@@ -64,6 +64,45 @@ class KeyTable {
   std::vector<int16_t> keys_;
 };
 
+// The splat of vertices [begin, end) as a gather: vertex v's m values (M = 0: m at run time) are the sum over
+// its entries k (ascending) of barycentric[k] times point k / (d+1)'s values.
+template <int M>
+void SplatVertices(const int32_t* start, const int32_t* entry, const double* barycentric, size_t begin, size_t end,
+                   const float* in, int m_runtime, int d1, double* values) {
+  const size_t m = size_t(M > 0 ? M : m_runtime);
+  for (size_t v = begin; v < end; ++v) {
+    double* dst = values + v * m;
+    for (int32_t e = start[v]; e < start[v + 1]; ++e) {
+      const size_t k = size_t(entry[e]);
+      const float* src = in + (k / size_t(d1)) * m;
+      const double w = barycentric[k];
+      for (size_t c = 0; c < m; ++c) dst[c] += w * src[c];
+    }
+  }
+}
+
+// The slice of points [begin, end): m values (M = 0: m at run time) per point, the sum over its d + 1
+// vertices of barycentric * norm times the vertex's values.
+template <int M>
+void SlicePoints(const int32_t* offset, const double* barycentric, double norm, int begin, int end, int d1,
+                 const double* values, int m_runtime, float* out) {
+  const size_t m = size_t(M > 0 ? M : m_runtime);
+  double acc[M > 0 ? M : 1];
+  std::vector<double> acc_runtime(M > 0 ? 0 : m);
+  double* a = M > 0 ? acc : acc_runtime.data();
+  for (int p = begin; p < end; ++p) {
+    for (size_t c = 0; c < m; ++c) a[c] = 0.0;
+    for (int r = 0; r < d1; ++r) {
+      const size_t k = size_t(p) * size_t(d1) + size_t(r);
+      const double* src = values + size_t(offset[k]) * m;
+      const double w = barycentric[k] * norm;
+      for (size_t c = 0; c < m; ++c) a[c] += w * src[c];
+    }
+    float* dst = out + size_t(p) * m;
+    for (size_t c = 0; c < m; ++c) dst[c] = float(a[c]);
+  }
+}
+
 }  // namespace
 
 double PermutohedralLattice::RefinementScale(int refinement) { return std::sqrt((3.0 * refinement + 1.0) / 4.0); }
@@ -177,6 +216,16 @@ void PermutohedralLattice::Build(const float* features, int n, int d, int refine
       }
   }
   num_vertices_ = int(table.size());
+  // The splat's gather lists (counting sort of the entries by vertex, stable: ascending k per vertex).
+  {
+    const size_t entries = size_t(n) * size_t(d1);
+    splat_start_.assign(size_t(num_vertices_) + 1, 0);
+    for (size_t k = 0; k < entries; ++k) ++splat_start_[size_t(offset_[k]) + 1];
+    for (size_t v = 0; v < size_t(num_vertices_); ++v) splat_start_[v + 1] += splat_start_[v];
+    splat_entry_.resize(entries);
+    std::vector<int32_t> fill(splat_start_.begin(), splat_start_.end() - 1);
+    for (size_t k = 0; k < entries; ++k) splat_entry_[size_t(fill[size_t(offset_[k])]++)] = int32_t(k);
+  }
 
   // Neighbours along each lattice direction j: key + 1 - (d+1) e_j and key - 1 + (d+1) e_j (for j = d the
   // stored coordinates all move by +-1).
@@ -207,16 +256,16 @@ void PermutohedralLattice::Filter(const float* in, int m, std::vector<float>* ou
   // Vertex values in double: a refined lattice blurs `refinement` times along each direction, and the
   // mean-field normaliser divides two filtered sums.
   std::vector<double> values(L * size_t(m), 0.0), next(L * size_t(m), 0.0);
-  // Splat (sequential: points share vertices).
-  for (int p = 0; p < n_; ++p) {
-    const float* v = in + size_t(p) * size_t(m);
-    for (int r = 0; r < d1; ++r) {
-      const size_t k = size_t(p) * size_t(d1) + size_t(r);
-      double* dst = &values[size_t(offset_[k]) * size_t(m)];
-      const double w = barycentric_[k];
-      for (int c = 0; c < m; ++c) dst[c] += w * v[c];
+  // Splat, as a gather per vertex (parallel over vertices): each vertex adds its entries in ascending
+  // point order, exactly the sums of a sequential splat over the points.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, L, 4096), [&](const tbb::blocked_range<size_t>& range) {
+    switch (m) {
+      case 1: SplatVertices<1>(splat_start_.data(), splat_entry_.data(), barycentric_.data(), range.begin(), range.end(), in, m, d1, values.data()); break;
+      case 2: SplatVertices<2>(splat_start_.data(), splat_entry_.data(), barycentric_.data(), range.begin(), range.end(), in, m, d1, values.data()); break;
+      case 3: SplatVertices<3>(splat_start_.data(), splat_entry_.data(), barycentric_.data(), range.begin(), range.end(), in, m, d1, values.data()); break;
+      default: SplatVertices<0>(splat_start_.data(), splat_entry_.data(), barycentric_.data(), range.begin(), range.end(), in, m, d1, values.data()); break;
     }
-  }
+  });
   // Blur with [1 2 1] / 4, `refinement` times along each of the d+1 directions (mass preserving; missing
   // neighbours are 0).
   for (int j = 0; j < d1; ++j) {
@@ -242,17 +291,13 @@ void PermutohedralLattice::Filter(const float* in, int m, std::vector<float>* ou
   const double norm = std::pow(4.0 * M_PI / 3.0, 0.5 * d_) * std::sqrt(double(d1)) * std::pow(RefinementScale(refinement_), d_);
   out->assign(size_t(n_) * size_t(m), 0.f);
   tbb::parallel_for(tbb::blocked_range<int>(0, n_, 1024), [&](const tbb::blocked_range<int>& range) {
-    std::vector<double> acc(static_cast<size_t>(m));
-    for (int p = range.begin(); p < range.end(); ++p) {
-      std::fill(acc.begin(), acc.end(), 0.0);
-      for (int r = 0; r < d1; ++r) {
-        const size_t k = size_t(p) * size_t(d1) + size_t(r);
-        const double* src = &values[size_t(offset_[k]) * size_t(m)];
-        const double w = double(barycentric_[k]) * norm;
-        for (int c = 0; c < m; ++c) acc[size_t(c)] += w * src[c];
-      }
-      float* dst = &(*out)[size_t(p) * size_t(m)];
-      for (int c = 0; c < m; ++c) dst[c] = float(acc[size_t(c)]);
+    const int32_t* offset = offset_.data();
+    const double* bary = barycentric_.data();
+    switch (m) {
+      case 1: SlicePoints<1>(offset, bary, norm, range.begin(), range.end(), d1, values.data(), m, out->data()); break;
+      case 2: SlicePoints<2>(offset, bary, norm, range.begin(), range.end(), d1, values.data(), m, out->data()); break;
+      case 3: SlicePoints<3>(offset, bary, norm, range.begin(), range.end(), d1, values.data(), m, out->data()); break;
+      default: SlicePoints<0>(offset, bary, norm, range.begin(), range.end(), d1, values.data(), m, out->data()); break;
     }
   });
 }
