@@ -103,6 +103,78 @@ void SlicePoints(const int32_t* offset, const double* barycentric, double norm, 
   }
 }
 
+// Embeds points [begin, end) (Build's per-point step): their simplex corners' keys (d + 1 keys of d
+// coordinates per point) and barycentric weights. D = d at compile time (0: d at run time, d <= 16).
+template <int D>
+void EmbedPoints(const float* features, int begin, int end, int d_runtime, const double* scale, int16_t* keys,
+                 double* barycentric, std::atomic<bool>* out_of_range_flag) {
+  const int d = D > 0 ? D : d_runtime;
+  const int d1 = d + 1;
+  std::atomic<bool>& out_of_range = *out_of_range_flag;
+  double elevated[17], bary[18];
+  int rem0[17], rank[17];
+  for (int p = begin; p < end; ++p) {
+    const float* f = features + size_t(p) * size_t(d);
+    // Elevate: E f with E's columns (1, .., 1, -(i+1), 0, ..) / sqrt((i+1)(i+2)).
+    double sm = 0;
+    for (int j = d; j > 0; --j) {
+      const double cf = double(f[j - 1]) * scale[j - 1];
+      elevated[j] = sm - j * cf;
+      sm += cf;
+    }
+    elevated[0] = sm;
+    for (int i = 0; i <= d; ++i)
+      if (!(std::abs(elevated[i]) < 28000.0)) out_of_range = true;  // Keys are int16 (NaN fails too); dilation moves a coordinate by <= 2 r d <= 2048.
+    if (out_of_range) continue;
+    // Closest remainder-0 point (all coordinates multiples of d+1), then the rank of every coordinate's
+    // difference: the permutation that identifies the enclosing simplex.
+    int sum = 0;
+    for (int i = 0; i <= d; ++i) {
+      const double v = elevated[i] / d1;
+      const int up = int(std::ceil(v)) * d1, down = int(std::floor(v)) * d1;
+      rem0[i] = (up - elevated[i] < elevated[i] - down) ? up : down;
+      sum += rem0[i] / d1;
+    }
+    std::fill(rank, rank + d1, 0);
+    for (int i = 0; i < d; ++i) {
+      const double di = elevated[i] - rem0[i];
+      for (int j = i + 1; j <= d; ++j) {
+        if (di < elevated[j] - rem0[j]) ++rank[i];
+        else ++rank[j];
+      }
+    }
+    // Off the hyperplane (coordinates do not sum to 0): move the largest / smallest ones.
+    if (sum > 0) {
+      for (int i = 0; i <= d; ++i) {
+        if (rank[i] >= d1 - sum) { rem0[i] -= d1; rank[i] += sum - d1; }
+        else rank[i] += sum;
+      }
+    } else if (sum < 0) {
+      for (int i = 0; i <= d; ++i) {
+        if (rank[i] < -sum) { rem0[i] += d1; rank[i] += d1 + sum; }
+        else rank[i] += sum;
+      }
+    }
+    // Barycentric coordinates of the point in its simplex.
+    std::fill(bary, bary + d1 + 1, 0.0);
+    for (int i = 0; i <= d; ++i) {
+      const double v = (elevated[i] - rem0[i]) / d1;
+      bary[d - rank[i]] += v;
+      bary[d + 1 - rank[i]] -= v;
+    }
+    bary[0] += 1.0 + bary[d1];
+    // Vertex r of the simplex: rem0 + the canonical simplex's vertex r permuted by rank.
+    for (int r = 0; r <= d; ++r) {
+      int16_t* key = &keys[(size_t(p) * size_t(d1) + size_t(r)) * size_t(d)];
+      for (int i = 0; i < d; ++i) {
+        const int canonical = rank[i] <= d - r ? r : r - d1;
+        key[i] = int16_t(rem0[i] + canonical);
+      }
+      barycentric[size_t(p) * size_t(d1) + size_t(r)] = bary[r];
+    }
+  }
+}
+
 }  // namespace
 
 double PermutohedralLattice::RefinementScale(int refinement) { return std::sqrt((3.0 * refinement + 1.0) / 4.0); }
@@ -129,67 +201,11 @@ void PermutohedralLattice::Build(const float* features, int n, int d, int refine
   std::vector<int16_t> keys(size_t(n) * size_t(d1) * size_t(d));
   std::atomic<bool> out_of_range{false};
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 1024), [&](const tbb::blocked_range<int>& range) {
-    std::vector<double> elevated(static_cast<size_t>(d1)), bary(static_cast<size_t>(d1) + 1);
-    std::vector<int> rem0(static_cast<size_t>(d1)), rank(static_cast<size_t>(d1));
-    for (int p = range.begin(); p < range.end(); ++p) {
-      const float* f = features + size_t(p) * size_t(d);
-      // Elevate: E f with E's columns (1, .., 1, -(i+1), 0, ..) / sqrt((i+1)(i+2)).
-      double sm = 0;
-      for (int j = d; j > 0; --j) {
-        const double cf = double(f[j - 1]) * scale[size_t(j - 1)];
-        elevated[size_t(j)] = sm - j * cf;
-        sm += cf;
-      }
-      elevated[0] = sm;
-      for (int i = 0; i <= d; ++i)
-        if (!(std::abs(elevated[size_t(i)]) < 28000.0)) out_of_range = true;  // Keys are int16 (NaN fails too); dilation moves a coordinate by <= 2 r d <= 2048.
-      if (out_of_range) continue;
-      // Closest remainder-0 point (all coordinates multiples of d+1), then the rank of every coordinate's
-      // difference: the permutation that identifies the enclosing simplex.
-      int sum = 0;
-      for (int i = 0; i <= d; ++i) {
-        const double v = elevated[size_t(i)] / d1;
-        const int up = int(std::ceil(v)) * d1, down = int(std::floor(v)) * d1;
-        rem0[size_t(i)] = (up - elevated[size_t(i)] < elevated[size_t(i)] - down) ? up : down;
-        sum += rem0[size_t(i)] / d1;
-      }
-      std::fill(rank.begin(), rank.end(), 0);
-      for (int i = 0; i < d; ++i) {
-        const double di = elevated[size_t(i)] - rem0[size_t(i)];
-        for (int j = i + 1; j <= d; ++j) {
-          if (di < elevated[size_t(j)] - rem0[size_t(j)]) ++rank[size_t(i)];
-          else ++rank[size_t(j)];
-        }
-      }
-      // Off the hyperplane (coordinates do not sum to 0): move the largest / smallest ones.
-      if (sum > 0) {
-        for (int i = 0; i <= d; ++i) {
-          if (rank[size_t(i)] >= d1 - sum) { rem0[size_t(i)] -= d1; rank[size_t(i)] += sum - d1; }
-          else rank[size_t(i)] += sum;
-        }
-      } else if (sum < 0) {
-        for (int i = 0; i <= d; ++i) {
-          if (rank[size_t(i)] < -sum) { rem0[size_t(i)] += d1; rank[size_t(i)] += d1 + sum; }
-          else rank[size_t(i)] += sum;
-        }
-      }
-      // Barycentric coordinates of the point in its simplex.
-      std::fill(bary.begin(), bary.end(), 0.0);
-      for (int i = 0; i <= d; ++i) {
-        const double v = (elevated[size_t(i)] - rem0[size_t(i)]) / d1;
-        bary[size_t(d - rank[size_t(i)])] += v;
-        bary[size_t(d + 1 - rank[size_t(i)])] -= v;
-      }
-      bary[0] += 1.0 + bary[size_t(d1)];
-      // Vertex r of the simplex: rem0 + the canonical simplex's vertex r permuted by rank.
-      for (int r = 0; r <= d; ++r) {
-        int16_t* key = &keys[(size_t(p) * size_t(d1) + size_t(r)) * size_t(d)];
-        for (int i = 0; i < d; ++i) {
-          const int canonical = rank[size_t(i)] <= d - r ? r : r - d1;
-          key[i] = int16_t(rem0[size_t(i)] + canonical);
-        }
-        barycentric_[size_t(p) * size_t(d1) + size_t(r)] = bary[size_t(r)];
-      }
+    switch (d) {
+      case 2: EmbedPoints<2>(features, range.begin(), range.end(), d, scale.data(), keys.data(), barycentric_.data(), &out_of_range); break;
+      case 3: EmbedPoints<3>(features, range.begin(), range.end(), d, scale.data(), keys.data(), barycentric_.data(), &out_of_range); break;
+      case 5: EmbedPoints<5>(features, range.begin(), range.end(), d, scale.data(), keys.data(), barycentric_.data(), &out_of_range); break;
+      default: EmbedPoints<0>(features, range.begin(), range.end(), d, scale.data(), keys.data(), barycentric_.data(), &out_of_range); break;
     }
   });
 
