@@ -97,8 +97,13 @@ double DistanceToOccupied(const VoxelGrid& grid, const Eigen::Vector3d& from, co
 }
 
 // Free-space rays stepped several at a time (the scheme of mapping/frame_integrator.cc's TraverseLanes, which
-// marks every cell; these stop at the first occupied one). One ray of TraverseGrid<true> per lane: the caller
-// guarantees kInsideMargin cells around both ends of every ray.
+// marks every cell; these stop at the first occupied one), each exactly as TraverseGrid<true> steps it.
+// TraverseGrid<true> needs kInsideMargin cells around both ends so that no ray leaves the grid before its step
+// budget or distance test stops it; a free-space ray needs none: it ends at an occupied target voxel inside
+// the grid (the segment runs half a voxel past the target's centre, so the traversal enters the target's cell
+// unless an earlier occupied voxel stops it), never leaves the grid on the way, and reaches the target after
+// exactly the Manhattan distance in cells, within the budget (the end cell is at most one cell past the target
+// on each axis). The end cell must lie in the grid (its index is compared with the cells entered).
 struct FreeRay {
   int64_t idx = 0, end_idx = 0, budget = -1;
   int64_t step_idx[3] = {0, 0, 0};
@@ -106,19 +111,40 @@ struct FreeRay {
   double length = 0;
 };
 
-// Sets up the traversal from `origin` to `end` with TraverseGrid<true>'s arithmetic; false when the ray
-// visits nothing (origin and end in one cell). The lane then steps from the origin's cell, which the caller
-// has visited already.
-inline bool SetUpFreeRay(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, double resolution,
-                         const int grid_origin_key[3], const int64_t stride[3], FreeRay* ray) {
+// What a position's rays share: the origin (float, as TraverseGrid takes it) and its cell.
+struct FreeRayOrigin {
+  Eigen::Vector3f origin;
+  int64_t cur[3];
+  int64_t idx;
+};
+
+inline FreeRayOrigin SetUpFreeRayOrigin(const Eigen::Vector3f& origin, double resolution, const int grid_origin_key[3],
+                                        const int64_t stride[3]) {
+  FreeRayOrigin o;
+  o.origin = origin;
   const double inv = 1.0 / resolution;
-  int64_t cur[3], ke[3];
+  for (int i = 0; i < 3; ++i) o.cur[i] = int64_t(std::floor(origin[i] * inv)) + kKeyOffset - grid_origin_key[i];
+  o.idx = o.cur[2] * stride[2] + o.cur[1] * stride[1] + o.cur[0];
+  return o;
+}
+
+enum class FreeRaySetUp { kLane, kEmpty, kOutside };
+
+// Sets up the traversal from `o` to `end` with TraverseGrid<true>'s arithmetic. kEmpty: the ray visits
+// nothing (origin and end in one cell); kOutside: the end cell is outside the grid (TraverseGrid's general
+// loop takes the ray). A lane steps from the origin's cell, which the caller visits.
+inline FreeRaySetUp SetUpFreeRay(const FreeRayOrigin& o, const Eigen::Vector3f& end, double resolution,
+                                 const int grid_origin_key[3], const int dims[3], const int64_t stride[3],
+                                 FreeRay* ray) {
+  const double inv = 1.0 / resolution;
+  int64_t ke[3];
   for (int i = 0; i < 3; ++i) {
-    cur[i] = int64_t(std::floor(origin[i] * inv)) + kKeyOffset - grid_origin_key[i];
     ke[i] = int64_t(std::floor(end[i] * inv)) + kKeyOffset - grid_origin_key[i];
+    if (ke[i] < 0 || ke[i] >= dims[i]) return FreeRaySetUp::kOutside;
   }
-  if (cur[0] == ke[0] && cur[1] == ke[1] && cur[2] == ke[2]) return false;
-  ray->idx = cur[2] * stride[2] + cur[1] * stride[1] + cur[0];
+  if (o.cur[0] == ke[0] && o.cur[1] == ke[1] && o.cur[2] == ke[2]) return FreeRaySetUp::kEmpty;
+  ray->idx = o.idx;
+  const Eigen::Vector3f& origin = o.origin;
   float direction[3] = {end[0] - origin[0], end[1] - origin[1], end[2] - origin[2]};
   const float norm_sq = direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2];
   const float length = float(std::sqrt(double(norm_sq)));
@@ -128,7 +154,7 @@ inline bool SetUpFreeRay(const Eigen::Vector3f& origin, const Eigen::Vector3f& e
     const int step = direction[i] > 0.0f ? 1 : (direction[i] < 0.0f ? -1 : 0);
     ray->step_idx[i] = step * stride[i];
     if (step != 0) {
-      double border = (double(cur[i] + grid_origin_key[i] - kKeyOffset) + 0.5) * resolution;
+      double border = (double(o.cur[i] + grid_origin_key[i] - kKeyOffset) + 0.5) * resolution;
       border += float(step * resolution * 0.5);
       ray->t_max[i] = (border - origin[i]) / direction[i];
       ray->t_delta[i] = resolution / std::fabs(direction[i]);
@@ -138,8 +164,8 @@ inline bool SetUpFreeRay(const Eigen::Vector3f& origin, const Eigen::Vector3f& e
     }
   }
   ray->end_idx = ke[2] * stride[2] + ke[1] * stride[1] + ke[0];
-  ray->budget = std::abs(ke[0] - cur[0]) + std::abs(ke[1] - cur[1]) + std::abs(ke[2] - cur[2]) + kInsideMargin;
-  return true;
+  ray->budget = std::abs(ke[0] - o.cur[0]) + std::abs(ke[1] - o.cur[1]) + std::abs(ke[2] - o.cur[2]) + kInsideMargin;
+  return FreeRaySetUp::kLane;
 }
 
 #pragma GCC diagnostic ignored "-Wpsabi"  // Vectors never cross a call here (all helpers are inlined).
@@ -368,16 +394,6 @@ size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_r
   const int okey[3] = {grid->origin_key()[0], grid->origin_key()[1], grid->origin_key()[2]};
   const int dims[3] = {grid->dims()[0], grid->dims()[1], grid->dims()[2]};
   const double res = grid->resolution();
-  const double inv = 1.0 / res;
-  // True when the cell of `p` (as TraverseGrid computes it) lies kInsideMargin cells inside the grid: a ray
-  // between two such cells may use TraverseGrid's cheaper inside-grid loop, which visits the same cells.
-  auto well_inside = [&](const Eigen::Vector3f& p) {
-    for (int i = 0; i < 3; ++i) {
-      const int64_t c = int64_t(std::floor(p[i] * inv)) + kKeyOffset - okey[i];
-      if (c < kInsideMargin || c >= int64_t(dims[i]) - kInsideMargin) return false;
-    }
-    return true;
-  };
   auto free_until_occupied = [state](size_t idx) {
     uint8_t* cellp = state + idx;
     const VoxelState s = LoadState(cellp);
@@ -393,21 +409,16 @@ size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_r
     if (progress) progress(pi, positions.size());
     const Eigen::Vector3d& pos = positions[pi];
     const Eigen::Vector3f origin = pos.cast<float>();
-    const bool origin_inside = well_inside(origin);
     const auto oc = grid->CellOf(pos);
     if (grid->Contains(oc[0], oc[1], oc[2]) && grid->state(grid->Index(oc[0], oc[1], oc[2])) != VoxelState::kOccupied)
       StoreState(state + grid->Index(oc[0], oc[1], oc[2]), VoxelState::kFree);
-    // Rays between cells well inside the grid go to the lanes, from an origin cell that is not occupied (an
-    // occupied one ends every ray at once: TraverseGrid visits it first); the others take TraverseGrid.
-    // The origin's cell as the traversal finds it (from the float origin; it may differ from `oc` on a cell
-    // boundary).
-    size_t origin_idx = 0;
-    if (origin_inside) {
-      int64_t c[3];
-      for (int i = 0; i < 3; ++i) c[i] = int64_t(std::floor(origin[i] * inv)) + kKeyOffset - okey[i];
-      origin_idx = size_t(c[2] * stride[2] + c[1] * stride[1] + c[0]);
-    }
-    const bool lanes_ok = origin_inside && LoadState(state + origin_idx) != VoxelState::kOccupied;
+    // The rays go to the lanes when the origin's cell as the traversal finds it (from the float origin; it may
+    // differ from `oc` on a cell boundary) is in the grid and not occupied (an occupied one ends every ray at
+    // once: TraverseGrid visits it first); otherwise TraverseGrid takes them.
+    const FreeRayOrigin lane_origin = SetUpFreeRayOrigin(origin, res, okey, stride);
+    bool lanes_ok = true;
+    for (int i = 0; i < 3; ++i) lanes_ok &= lane_origin.cur[i] >= 0 && lane_origin.cur[i] < dims[i];
+    lanes_ok = lanes_ok && LoadState(state + lane_origin.idx) != VoxelState::kOccupied;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, targets.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
       size_t local = 0;
       std::vector<FreeRay> lanes;
@@ -419,14 +430,12 @@ size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_r
         // Extend the segment half a voxel past the target centre so the target cell is entered.
         const Eigen::Vector3d dir = (target - pos).normalized();
         const Eigen::Vector3f end = (target + dir * (0.5 * res)).cast<float>();
-        if (lanes_ok && well_inside(end)) {
-          FreeRay ray;
-          if (SetUpFreeRay(origin, end, res, okey, stride, &ray)) lanes.push_back(ray);
-        } else {
-          TraverseGrid(origin, end, res, okey, dims, free_until_occupied);
-        }
+        FreeRay ray;
+        const FreeRaySetUp setup = lanes_ok ? SetUpFreeRay(lane_origin, end, res, okey, dims, stride, &ray) : FreeRaySetUp::kOutside;
+        if (setup == FreeRaySetUp::kLane) lanes.push_back(ray);
+        else if (setup == FreeRaySetUp::kOutside) TraverseGrid(origin, end, res, okey, dims, free_until_occupied);
       }
-      if (!lanes.empty()) free_until_occupied(origin_idx);  // Every lane ray visits the origin's cell first.
+      if (!lanes.empty()) free_until_occupied(size_t(lane_origin.idx));  // Every lane ray visits the origin's cell first.
       if (avx2) CastFreeLanesAvx2(lanes.data(), lanes.size(), state);
       else CastFreeLanesSse2(lanes.data(), lanes.size(), state);
       rays += local;
