@@ -19,11 +19,6 @@ Eigen::Vector3d VoxelGrid::CellCenter(int ix, int iy, int iz) const {
           KeyIndexToCoord(origin_key_[2] + iz, resolution_)};
 }
 
-bool VoxelGrid::CellOfKey(const VoxelKey& k, std::array<int, 3>* cell) const {
-  *cell = {int(k.x) - origin_key_[0], int(k.y) - origin_key_[1], int(k.z) - origin_key_[2]};
-  return Contains((*cell)[0], (*cell)[1], (*cell)[2]);
-}
-
 Eigen::Vector3d VoxelGrid::MinCorner() const {
   return {double(origin_key_[0] - kKeyOffset) * resolution_, double(origin_key_[1] - kKeyOffset) * resolution_,
           double(origin_key_[2] - kKeyOffset) * resolution_};

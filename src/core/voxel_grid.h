@@ -44,7 +44,10 @@ class VoxelGrid {
   VoxelKey KeyOf(int ix, int iy, int iz) const {
     return VoxelKey{uint16_t(origin_key_[0] + ix), uint16_t(origin_key_[1] + iy), uint16_t(origin_key_[2] + iz)};
   }
-  bool CellOfKey(const VoxelKey& k, std::array<int, 3>* cell) const;
+  bool CellOfKey(const VoxelKey& k, std::array<int, 3>* cell) const {  // Inline: called per pixel of every view.
+    *cell = {int(k.x) - origin_key_[0], int(k.y) - origin_key_[1], int(k.z) - origin_key_[2]};
+    return Contains((*cell)[0], (*cell)[1], (*cell)[2]);
+  }
   // World coordinates of the grid's lower corner (min x, min y, min z of voxel (0,0,0)).
   Eigen::Vector3d MinCorner() const;
 

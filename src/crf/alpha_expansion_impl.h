@@ -131,6 +131,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
   std::vector<double> delta(N + 2 * C);
   std::vector<uint8_t> changed(N, 0);
   std::vector<int> changed_nodes;
+  std::vector<std::vector<int>> chunk_changed(concurrent_edges ? kEdgeChunks - 1 : 0);
   std::vector<int> clique_stamp(C, -1);
   std::vector<double> scratch(L, 0.0), old_weight(L, 0.0), new_weight(L, 0.0);
   std::vector<RobustPnMove> plans(C);
@@ -205,19 +206,33 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
         // all their pairwise and clique terms could pay back (keep in every optimal move), or gains more
         // than they could charge (switch in every optimal move). Strict dominance, exact.
         const float* plane = energy.unary_plane(alpha).data();
-        for (int i = 0; i < N; ++i) {
-          if (labels[i] == alpha) {
-            delta[i] = 0.0;
-            if (prune) decided[i] = kMoveAtAlpha;
-            continue;
+        auto unary_range = [&](int begin, int end) {
+          int64_t range_pruned = 0;
+          for (int i = begin; i < end; ++i) {
+            if (labels[i] == alpha) {
+              delta[i] = 0.0;
+              if (prune) decided[i] = kMoveAtAlpha;
+              continue;
+            }
+            const double d = static_cast<double>(plane[i]) - current_unary[i];
+            delta[i] = d;
+            if (prune) {  // Branch-free: random data mispredicts.
+              const uint8_t f = static_cast<uint8_t>((d > decide_bound[i]) * kMoveKeep + (d < -decide_bound[i]) * kMoveSwitch);
+              decided[i] = f;
+              range_pruned += f != kMoveFree;
+            }
           }
-          const double d = static_cast<double>(plane[i]) - current_unary[i];
-          delta[i] = d;
-          if (prune) {  // Branch-free: random data mispredicts.
-            const uint8_t f = static_cast<uint8_t>((d > decide_bound[i]) * kMoveKeep + (d < -decide_bound[i]) * kMoveSwitch);
-            decided[i] = f;
-            pruned += f != kMoveFree;
-          }
+          return range_pruned;
+        };
+        // Per node only (and a count): in kEdgeChunks fixed ranges, in parallel with the edges' condition.
+        if (concurrent_edges) {
+          std::array<int64_t, kEdgeChunks> chunk_pruned{};
+          tbb::parallel_for(0, kEdgeChunks, [&](int k) {
+            chunk_pruned[size_t(k)] = unary_range(int(int64_t(N) * k / kEdgeChunks), int(int64_t(N) * (k + 1) / kEdgeChunks));
+          });
+          for (int64_t p : chunk_pruned) pruned += p;
+        } else {
+          pruned = unary_range(0, N);
         }
       }
       std::fill(delta.begin() + N, delta.end(), 0.0);
@@ -323,10 +338,14 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
             pairwise_constant += chunk_constant[size_t(k)];
             truncated += chunk_truncated[size_t(k)];
           }
-          for (int k = 1; k < kEdgeChunks; ++k) {
-            const double* src = chunk_delta[size_t(k - 1)].data();
-            for (int i = 0; i < N; ++i) delta[i] += src[i];
-          }
+          // Node by node, the ranges in order (the same sums), in fixed node ranges on both cores.
+          tbb::parallel_for(0, kEdgeChunks, [&](int part) {
+            const int i_begin = int(int64_t(N) * part / kEdgeChunks), i_end = int(int64_t(N) * (part + 1) / kEdgeChunks);
+            for (int k = 1; k < kEdgeChunks; ++k) {
+              const double* src = chunk_delta[size_t(k - 1)].data();
+              for (int i = i_begin; i < i_end; ++i) delta[i] += src[i];
+            }
+          });
         } else {
           edge_range(0, num_pairwise, delta.data(), &pairwise_constant, &truncated);
         }
@@ -359,17 +378,32 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       }
       summary->num_pruned_nodes += pruned;
       {
-        double negative = 0;
-        for (int v = 0; v < N + 2 * C; ++v) {
-          double d = delta[v];
-          if (prune && v < N && decided[v] != kMoveFree) {
-            if (decided[v] == kMoveSwitch) constant += d;
-            d = 0;
+        // Distinct nodes in kEdgeChunks fixed ranges (concurrently when the graph allows concurrent updates of
+        // distinct edges, which covers its nodes' terminal capacities); the constants are summed per range and
+        // added in range order (they only check the cut's prediction below).
+        auto terminal_range = [&](int begin, int end, double* switched, double* negative) {
+          for (int v = begin; v < end; ++v) {
+            double d = delta[v];
+            if (prune && v < N && decided[v] != kMoveFree) {
+              if (decided[v] == kMoveSwitch) *switched += d;
+              d = 0;
+            }
+            graph.SetTerminalCapacity(v, d);
+            *negative += d < 0 ? d : 0.0;
           }
-          graph.SetTerminalCapacity(v, d);
-          negative += d < 0 ? d : 0.0;
+        };
+        const int V = N + 2 * C;
+        std::array<double, kEdgeChunks> switched{}, negative{};
+        if (concurrent_edges) {
+          tbb::parallel_for(0, kEdgeChunks, [&](int k) {
+            terminal_range(int(int64_t(V) * k / kEdgeChunks), int(int64_t(V) * (k + 1) / kEdgeChunks), &switched[size_t(k)],
+                           &negative[size_t(k)]);
+          });
+        } else {
+          terminal_range(0, V, &switched[0], &negative[0]);
         }
-        constant += negative;
+        for (int k = 0; k < kEdgeChunks; ++k) constant += switched[size_t(k)];
+        for (int k = 0; k < kEdgeChunks; ++k) constant += negative[size_t(k)];
       }
       // ---- Cut.
       const auto t_flow = Clock::now();
@@ -379,13 +413,25 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       summary->num_truncated_terms += truncated;
 
       changed_nodes.clear();
-      for (int i = 0; i < N; ++i) {
-        const bool switches = prune ? decided[i] == kMoveSwitch || (decided[i] == kMoveFree && graph.InSinkSegment(i))
-                                    : labels[i] != alpha && graph.InSinkSegment(i);
-        if (switches) {
-          changed[i] = 1;
-          changed_nodes.push_back(i);
+      auto scan_range = [&](int begin, int end, std::vector<int>* out) {
+        for (int i = begin; i < end; ++i) {
+          const bool switches = prune ? decided[i] == kMoveSwitch || (decided[i] == kMoveFree && graph.InSinkSegment(i))
+                                      : labels[i] != alpha && graph.InSinkSegment(i);
+          if (switches) {
+            changed[i] = 1;
+            out->push_back(i);
+          }
         }
+      };
+      if (concurrent_edges) {  // Fixed node ranges, their lists joined in order: ascending, as one pass.
+        tbb::parallel_for(0, kEdgeChunks, [&](int k) {
+          std::vector<int>* out = k == 0 ? &changed_nodes : &chunk_changed[size_t(k - 1)];
+          out->clear();
+          scan_range(int(int64_t(N) * k / kEdgeChunks), int(int64_t(N) * (k + 1) / kEdgeChunks), out);
+        });
+        for (const std::vector<int>& more : chunk_changed) changed_nodes.insert(changed_nodes.end(), more.begin(), more.end());
+      } else {
+        scan_range(0, N, &changed_nodes);
       }
       const double change = ExpansionEnergyChange(energy, edge_incidence, clique_incidence, labels, current_unary, changed_nodes,
                                                   changed, alpha, &clique_stamp, stamp++, &old_weight, &new_weight);

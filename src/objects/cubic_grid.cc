@@ -124,6 +124,30 @@ void SlicePoint(const int64_t* corner_offset, const float* corner_weight, int co
   for (int ch = 0; ch < m; ++ch) out[ch] = last[0] * acc[ch] + last[1] * acc[m + ch] + last[2] * acc[2 * m + ch] + last[3] * acc[3 * m + ch];
 }
 
+// The blur along the last axis (stride 1) of lines [begin, end) of `len` nodes, m channels (M = 0: m at run
+// time), accumulated in double tap by tap from the lowest node up.
+template <int M>
+void BlurLastAxis(const float* grid, float* next, int64_t begin, int64_t end, int len, const std::vector<double>& taps,
+                  int m_runtime) {
+  const size_t mm = size_t(M > 0 ? M : m_runtime);
+  const int radius = int(taps.size()) - 1;
+  double acc[8];  // m <= 8 on this path.
+  for (int64_t l = begin; l < end; ++l) {
+    const float* line = &grid[size_t(l) * size_t(len) * mm];
+    float* out_line = &next[size_t(l) * size_t(len) * mm];
+    for (int i = 0; i < len; ++i) {
+      for (size_t ch = 0; ch < mm; ++ch) acc[ch] = 0.0;
+      const int a = std::max(0, i - radius), z = std::min(len - 1, i + radius);
+      for (int j = a; j <= z; ++j) {
+        const double t = taps[size_t(std::abs(j - i))];
+        const float* src = &line[size_t(j) * mm];
+        for (size_t ch = 0; ch < mm; ++ch) acc[ch] += t * src[ch];
+      }
+      for (size_t ch = 0; ch < mm; ++ch) out_line[size_t(i) * mm + ch] = float(acc[ch]);
+    }
+  }
+}
+
 }  // namespace
 
 void CubicGrid::Filter(const float* in, int m, std::vector<float>* out) const {
@@ -168,6 +192,7 @@ void CubicGrid::Filter(const float* in, int m, std::vector<float>* out) const {
     const float* src = in + size_t(p) * mm;
     switch (m) {
       case 1: SplatPoint<1>(prefix_offset.data(), w, prefix, wl, src, m, base_[size_t(p)], g); break;
+      case 2: SplatPoint<2>(prefix_offset.data(), w, prefix, wl, src, m, base_[size_t(p)], g); break;
       case 3: SplatPoint<3>(prefix_offset.data(), w, prefix, wl, src, m, base_[size_t(p)], g); break;
       case 4: SplatPoint<4>(prefix_offset.data(), w, prefix, wl, src, m, base_[size_t(p)], g); break;
       default: SplatPoint<0>(prefix_offset.data(), w, prefix, wl, src, m, base_[size_t(p)], g); break;
@@ -223,20 +248,12 @@ void CubicGrid::Filter(const float* in, int m, std::vector<float>* out) const {
     } else {
       const int64_t lines = int64_t(cells) / len;
       tbb::parallel_for(tbb::blocked_range<int64_t>(0, lines, 16), [&](const tbb::blocked_range<int64_t>& range) {
-        std::vector<double> acc(mm);
-        for (int64_t l = range.begin(); l < range.end(); ++l) {
-          const float* line = &grid[size_t(l) * size_t(len) * mm];
-          float* out_line = &next[size_t(l) * size_t(len) * mm];
-          for (int i = 0; i < len; ++i) {
-            std::fill(acc.begin(), acc.end(), 0.0);
-            const int a = std::max(0, i - radius), z = std::min(len - 1, i + radius);
-            for (int j = a; j <= z; ++j) {
-              const double t = taps[size_t(std::abs(j - i))];
-              const float* src = &line[size_t(j) * mm];
-              for (size_t ch = 0; ch < mm; ++ch) acc[ch] += t * src[ch];
-            }
-            for (size_t ch = 0; ch < mm; ++ch) out_line[size_t(i) * mm + ch] = float(acc[ch]);
-          }
+        switch (m) {
+          case 1: BlurLastAxis<1>(grid.data(), next.data(), range.begin(), range.end(), len, taps, m); break;
+          case 2: BlurLastAxis<2>(grid.data(), next.data(), range.begin(), range.end(), len, taps, m); break;
+          case 3: BlurLastAxis<3>(grid.data(), next.data(), range.begin(), range.end(), len, taps, m); break;
+          case 4: BlurLastAxis<4>(grid.data(), next.data(), range.begin(), range.end(), len, taps, m); break;
+          default: BlurLastAxis<0>(grid.data(), next.data(), range.begin(), range.end(), len, taps, m); break;
         }
       });
     }
@@ -252,6 +269,7 @@ void CubicGrid::Filter(const float* in, int m, std::vector<float>* out) const {
       float* dst = out->data() + size_t(p) * mm;
       switch (m) {
         case 1: SlicePoint<1>(prefix_offset.data(), w.data(), prefix, wl, grid.data(), m, base_[size_t(p)], dst); break;
+        case 2: SlicePoint<2>(prefix_offset.data(), w.data(), prefix, wl, grid.data(), m, base_[size_t(p)], dst); break;
         case 3: SlicePoint<3>(prefix_offset.data(), w.data(), prefix, wl, grid.data(), m, base_[size_t(p)], dst); break;
         case 4: SlicePoint<4>(prefix_offset.data(), w.data(), prefix, wl, grid.data(), m, base_[size_t(p)], dst); break;
         default: SlicePoint<0>(prefix_offset.data(), w.data(), prefix, wl, grid.data(), m, base_[size_t(p)], dst); break;

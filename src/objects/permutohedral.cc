@@ -64,6 +64,117 @@ class KeyTable {
   std::vector<int16_t> keys_;
 };
 
+// The splat of vertices [begin, end) as a gather: vertex v's m values (M = 0: m at run time) are the sum over
+// its entries k (ascending) of barycentric[k] times point k / (d+1)'s values.
+template <int M>
+void SplatVertices(const int32_t* start, const int32_t* entry, const double* barycentric, size_t begin, size_t end,
+                   const float* in, int m_runtime, int d1, double* values) {
+  const size_t m = size_t(M > 0 ? M : m_runtime);
+  for (size_t v = begin; v < end; ++v) {
+    double* dst = values + v * m;
+    for (int32_t e = start[v]; e < start[v + 1]; ++e) {
+      const size_t k = size_t(entry[e]);
+      const float* src = in + (k / size_t(d1)) * m;
+      const double w = barycentric[k];
+      for (size_t c = 0; c < m; ++c) dst[c] += w * src[c];
+    }
+  }
+}
+
+// The slice of points [begin, end): m values (M = 0: m at run time) per point, the sum over its d + 1
+// vertices of barycentric * norm times the vertex's values.
+template <int M>
+void SlicePoints(const int32_t* offset, const double* barycentric, double norm, int begin, int end, int d1,
+                 const double* values, int m_runtime, float* out) {
+  const size_t m = size_t(M > 0 ? M : m_runtime);
+  double acc[M > 0 ? M : 1];
+  std::vector<double> acc_runtime(M > 0 ? 0 : m);
+  double* a = M > 0 ? acc : acc_runtime.data();
+  for (int p = begin; p < end; ++p) {
+    for (size_t c = 0; c < m; ++c) a[c] = 0.0;
+    for (int r = 0; r < d1; ++r) {
+      const size_t k = size_t(p) * size_t(d1) + size_t(r);
+      const double* src = values + size_t(offset[k]) * m;
+      const double w = barycentric[k] * norm;
+      for (size_t c = 0; c < m; ++c) a[c] += w * src[c];
+    }
+    float* dst = out + size_t(p) * m;
+    for (size_t c = 0; c < m; ++c) dst[c] = float(a[c]);
+  }
+}
+
+// Embeds points [begin, end) (Build's per-point step): their simplex corners' keys (d + 1 keys of d
+// coordinates per point) and barycentric weights. D = d at compile time (0: d at run time, d <= 16).
+template <int D>
+void EmbedPoints(const float* features, int begin, int end, int d_runtime, const double* scale, int16_t* keys,
+                 double* barycentric, std::atomic<bool>* out_of_range_flag) {
+  const int d = D > 0 ? D : d_runtime;
+  const int d1 = d + 1;
+  std::atomic<bool>& out_of_range = *out_of_range_flag;
+  double elevated[17], bary[18];
+  int rem0[17], rank[17];
+  for (int p = begin; p < end; ++p) {
+    const float* f = features + size_t(p) * size_t(d);
+    // Elevate: E f with E's columns (1, .., 1, -(i+1), 0, ..) / sqrt((i+1)(i+2)).
+    double sm = 0;
+    for (int j = d; j > 0; --j) {
+      const double cf = double(f[j - 1]) * scale[j - 1];
+      elevated[j] = sm - j * cf;
+      sm += cf;
+    }
+    elevated[0] = sm;
+    for (int i = 0; i <= d; ++i)
+      if (!(std::abs(elevated[i]) < 28000.0)) out_of_range = true;  // Keys are int16 (NaN fails too); dilation moves a coordinate by <= 2 r d <= 2048.
+    if (out_of_range) continue;
+    // Closest remainder-0 point (all coordinates multiples of d+1), then the rank of every coordinate's
+    // difference: the permutation that identifies the enclosing simplex.
+    int sum = 0;
+    for (int i = 0; i <= d; ++i) {
+      const double v = elevated[i] / d1;
+      const int up = int(std::ceil(v)) * d1, down = int(std::floor(v)) * d1;
+      rem0[i] = (up - elevated[i] < elevated[i] - down) ? up : down;
+      sum += rem0[i] / d1;
+    }
+    std::fill(rank, rank + d1, 0);
+    for (int i = 0; i < d; ++i) {
+      const double di = elevated[i] - rem0[i];
+      for (int j = i + 1; j <= d; ++j) {
+        if (di < elevated[j] - rem0[j]) ++rank[i];
+        else ++rank[j];
+      }
+    }
+    // Off the hyperplane (coordinates do not sum to 0): move the largest / smallest ones.
+    if (sum > 0) {
+      for (int i = 0; i <= d; ++i) {
+        if (rank[i] >= d1 - sum) { rem0[i] -= d1; rank[i] += sum - d1; }
+        else rank[i] += sum;
+      }
+    } else if (sum < 0) {
+      for (int i = 0; i <= d; ++i) {
+        if (rank[i] < -sum) { rem0[i] += d1; rank[i] += d1 + sum; }
+        else rank[i] += sum;
+      }
+    }
+    // Barycentric coordinates of the point in its simplex.
+    std::fill(bary, bary + d1 + 1, 0.0);
+    for (int i = 0; i <= d; ++i) {
+      const double v = (elevated[i] - rem0[i]) / d1;
+      bary[d - rank[i]] += v;
+      bary[d + 1 - rank[i]] -= v;
+    }
+    bary[0] += 1.0 + bary[d1];
+    // Vertex r of the simplex: rem0 + the canonical simplex's vertex r permuted by rank.
+    for (int r = 0; r <= d; ++r) {
+      int16_t* key = &keys[(size_t(p) * size_t(d1) + size_t(r)) * size_t(d)];
+      for (int i = 0; i < d; ++i) {
+        const int canonical = rank[i] <= d - r ? r : r - d1;
+        key[i] = int16_t(rem0[i] + canonical);
+      }
+      barycentric[size_t(p) * size_t(d1) + size_t(r)] = bary[r];
+    }
+  }
+}
+
 }  // namespace
 
 double PermutohedralLattice::RefinementScale(int refinement) { return std::sqrt((3.0 * refinement + 1.0) / 4.0); }
@@ -90,67 +201,11 @@ void PermutohedralLattice::Build(const float* features, int n, int d, int refine
   std::vector<int16_t> keys(size_t(n) * size_t(d1) * size_t(d));
   std::atomic<bool> out_of_range{false};
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 1024), [&](const tbb::blocked_range<int>& range) {
-    std::vector<double> elevated(static_cast<size_t>(d1)), bary(static_cast<size_t>(d1) + 1);
-    std::vector<int> rem0(static_cast<size_t>(d1)), rank(static_cast<size_t>(d1));
-    for (int p = range.begin(); p < range.end(); ++p) {
-      const float* f = features + size_t(p) * size_t(d);
-      // Elevate: E f with E's columns (1, .., 1, -(i+1), 0, ..) / sqrt((i+1)(i+2)).
-      double sm = 0;
-      for (int j = d; j > 0; --j) {
-        const double cf = double(f[j - 1]) * scale[size_t(j - 1)];
-        elevated[size_t(j)] = sm - j * cf;
-        sm += cf;
-      }
-      elevated[0] = sm;
-      for (int i = 0; i <= d; ++i)
-        if (!(std::abs(elevated[size_t(i)]) < 28000.0)) out_of_range = true;  // Keys are int16 (NaN fails too); dilation moves a coordinate by <= 2 r d <= 2048.
-      if (out_of_range) continue;
-      // Closest remainder-0 point (all coordinates multiples of d+1), then the rank of every coordinate's
-      // difference: the permutation that identifies the enclosing simplex.
-      int sum = 0;
-      for (int i = 0; i <= d; ++i) {
-        const double v = elevated[size_t(i)] / d1;
-        const int up = int(std::ceil(v)) * d1, down = int(std::floor(v)) * d1;
-        rem0[size_t(i)] = (up - elevated[size_t(i)] < elevated[size_t(i)] - down) ? up : down;
-        sum += rem0[size_t(i)] / d1;
-      }
-      std::fill(rank.begin(), rank.end(), 0);
-      for (int i = 0; i < d; ++i) {
-        const double di = elevated[size_t(i)] - rem0[size_t(i)];
-        for (int j = i + 1; j <= d; ++j) {
-          if (di < elevated[size_t(j)] - rem0[size_t(j)]) ++rank[size_t(i)];
-          else ++rank[size_t(j)];
-        }
-      }
-      // Off the hyperplane (coordinates do not sum to 0): move the largest / smallest ones.
-      if (sum > 0) {
-        for (int i = 0; i <= d; ++i) {
-          if (rank[size_t(i)] >= d1 - sum) { rem0[size_t(i)] -= d1; rank[size_t(i)] += sum - d1; }
-          else rank[size_t(i)] += sum;
-        }
-      } else if (sum < 0) {
-        for (int i = 0; i <= d; ++i) {
-          if (rank[size_t(i)] < -sum) { rem0[size_t(i)] += d1; rank[size_t(i)] += d1 + sum; }
-          else rank[size_t(i)] += sum;
-        }
-      }
-      // Barycentric coordinates of the point in its simplex.
-      std::fill(bary.begin(), bary.end(), 0.0);
-      for (int i = 0; i <= d; ++i) {
-        const double v = (elevated[size_t(i)] - rem0[size_t(i)]) / d1;
-        bary[size_t(d - rank[size_t(i)])] += v;
-        bary[size_t(d + 1 - rank[size_t(i)])] -= v;
-      }
-      bary[0] += 1.0 + bary[size_t(d1)];
-      // Vertex r of the simplex: rem0 + the canonical simplex's vertex r permuted by rank.
-      for (int r = 0; r <= d; ++r) {
-        int16_t* key = &keys[(size_t(p) * size_t(d1) + size_t(r)) * size_t(d)];
-        for (int i = 0; i < d; ++i) {
-          const int canonical = rank[size_t(i)] <= d - r ? r : r - d1;
-          key[i] = int16_t(rem0[size_t(i)] + canonical);
-        }
-        barycentric_[size_t(p) * size_t(d1) + size_t(r)] = bary[size_t(r)];
-      }
+    switch (d) {
+      case 2: EmbedPoints<2>(features, range.begin(), range.end(), d, scale.data(), keys.data(), barycentric_.data(), &out_of_range); break;
+      case 3: EmbedPoints<3>(features, range.begin(), range.end(), d, scale.data(), keys.data(), barycentric_.data(), &out_of_range); break;
+      case 5: EmbedPoints<5>(features, range.begin(), range.end(), d, scale.data(), keys.data(), barycentric_.data(), &out_of_range); break;
+      default: EmbedPoints<0>(features, range.begin(), range.end(), d, scale.data(), keys.data(), barycentric_.data(), &out_of_range); break;
     }
   });
 
@@ -177,6 +232,16 @@ void PermutohedralLattice::Build(const float* features, int n, int d, int refine
       }
   }
   num_vertices_ = int(table.size());
+  // The splat's gather lists (counting sort of the entries by vertex, stable: ascending k per vertex).
+  {
+    const size_t entries = size_t(n) * size_t(d1);
+    splat_start_.assign(size_t(num_vertices_) + 1, 0);
+    for (size_t k = 0; k < entries; ++k) ++splat_start_[size_t(offset_[k]) + 1];
+    for (size_t v = 0; v < size_t(num_vertices_); ++v) splat_start_[v + 1] += splat_start_[v];
+    splat_entry_.resize(entries);
+    std::vector<int32_t> fill(splat_start_.begin(), splat_start_.end() - 1);
+    for (size_t k = 0; k < entries; ++k) splat_entry_[size_t(fill[size_t(offset_[k])]++)] = int32_t(k);
+  }
 
   // Neighbours along each lattice direction j: key + 1 - (d+1) e_j and key - 1 + (d+1) e_j (for j = d the
   // stored coordinates all move by +-1).
@@ -207,16 +272,16 @@ void PermutohedralLattice::Filter(const float* in, int m, std::vector<float>* ou
   // Vertex values in double: a refined lattice blurs `refinement` times along each direction, and the
   // mean-field normaliser divides two filtered sums.
   std::vector<double> values(L * size_t(m), 0.0), next(L * size_t(m), 0.0);
-  // Splat (sequential: points share vertices).
-  for (int p = 0; p < n_; ++p) {
-    const float* v = in + size_t(p) * size_t(m);
-    for (int r = 0; r < d1; ++r) {
-      const size_t k = size_t(p) * size_t(d1) + size_t(r);
-      double* dst = &values[size_t(offset_[k]) * size_t(m)];
-      const double w = barycentric_[k];
-      for (int c = 0; c < m; ++c) dst[c] += w * v[c];
+  // Splat, as a gather per vertex (parallel over vertices): each vertex adds its entries in ascending
+  // point order, exactly the sums of a sequential splat over the points.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, L, 4096), [&](const tbb::blocked_range<size_t>& range) {
+    switch (m) {
+      case 1: SplatVertices<1>(splat_start_.data(), splat_entry_.data(), barycentric_.data(), range.begin(), range.end(), in, m, d1, values.data()); break;
+      case 2: SplatVertices<2>(splat_start_.data(), splat_entry_.data(), barycentric_.data(), range.begin(), range.end(), in, m, d1, values.data()); break;
+      case 3: SplatVertices<3>(splat_start_.data(), splat_entry_.data(), barycentric_.data(), range.begin(), range.end(), in, m, d1, values.data()); break;
+      default: SplatVertices<0>(splat_start_.data(), splat_entry_.data(), barycentric_.data(), range.begin(), range.end(), in, m, d1, values.data()); break;
     }
-  }
+  });
   // Blur with [1 2 1] / 4, `refinement` times along each of the d+1 directions (mass preserving; missing
   // neighbours are 0).
   for (int j = 0; j < d1; ++j) {
@@ -242,17 +307,13 @@ void PermutohedralLattice::Filter(const float* in, int m, std::vector<float>* ou
   const double norm = std::pow(4.0 * M_PI / 3.0, 0.5 * d_) * std::sqrt(double(d1)) * std::pow(RefinementScale(refinement_), d_);
   out->assign(size_t(n_) * size_t(m), 0.f);
   tbb::parallel_for(tbb::blocked_range<int>(0, n_, 1024), [&](const tbb::blocked_range<int>& range) {
-    std::vector<double> acc(static_cast<size_t>(m));
-    for (int p = range.begin(); p < range.end(); ++p) {
-      std::fill(acc.begin(), acc.end(), 0.0);
-      for (int r = 0; r < d1; ++r) {
-        const size_t k = size_t(p) * size_t(d1) + size_t(r);
-        const double* src = &values[size_t(offset_[k]) * size_t(m)];
-        const double w = double(barycentric_[k]) * norm;
-        for (int c = 0; c < m; ++c) acc[size_t(c)] += w * src[c];
-      }
-      float* dst = &(*out)[size_t(p) * size_t(m)];
-      for (int c = 0; c < m; ++c) dst[c] = float(acc[size_t(c)]);
+    const int32_t* offset = offset_.data();
+    const double* bary = barycentric_.data();
+    switch (m) {
+      case 1: SlicePoints<1>(offset, bary, norm, range.begin(), range.end(), d1, values.data(), m, out->data()); break;
+      case 2: SlicePoints<2>(offset, bary, norm, range.begin(), range.end(), d1, values.data(), m, out->data()); break;
+      case 3: SlicePoints<3>(offset, bary, norm, range.begin(), range.end(), d1, values.data(), m, out->data()); break;
+      default: SlicePoints<0>(offset, bary, norm, range.begin(), range.end(), d1, values.data(), m, out->data()); break;
     }
   });
 }

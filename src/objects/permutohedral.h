@@ -46,6 +46,10 @@ class PermutohedralLattice {
   int n_ = 0, d_ = 0, num_vertices_ = 0, refinement_ = 1;
   std::vector<int32_t> offset_;     // n (d+1): vertex index of each of the point's simplex corners.
   std::vector<double> barycentric_;  // n (d+1).
+  // The splat as a gather: for vertex v, splat_entry_[splat_start_[v] .. splat_start_[v + 1]) are the
+  // entries k = p (d+1) + r with offset_[k] = v, ascending (the order of a sequential splat over the points),
+  // so that the vertices can be filled in parallel with the sums of a sequential splat.
+  std::vector<int32_t> splat_start_, splat_entry_;
   // Blur neighbours: for each direction j in [0, d] and vertex v, the vertex at -1 and +1 along j (or -1).
   std::vector<int32_t> neighbour_minus_, neighbour_plus_;  // (d+1) L each.
 };

@@ -27,7 +27,9 @@ ImageF32 LocalEntropy(const Image<uint8_t>& channel, int window) {
   const int max_count = window * window;
   // c log2 c for every count a window can hold.
   std::vector<double> clogc(static_cast<size_t>(max_count) + 1, 0.0);
-  for (int c = 1; c <= max_count; ++c) clogc[size_t(c)] = c * std::log2(double(c));
+  // log2 n for every pixel count a window can hold (a table: the count changes only near the border).
+  std::vector<double> log2n(static_cast<size_t>(max_count) + 1, 0.0);
+  for (int c = 1; c <= max_count; ++c) clogc[size_t(c)] = c * std::log2(double(c)), log2n[size_t(c)] = std::log2(double(c));
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& range) {
     std::array<int, 256> hist;
     for (int y = range.begin(); y < range.end(); ++y) {
@@ -47,7 +49,7 @@ ImageF32 LocalEntropy(const Image<uint8_t>& channel, int window) {
       for (int x = 0; x <= std::min(r, w - 1); ++x) add(x, +1);
       for (int x = 0; x < w; ++x) {
         // Eq. 1 with p = c / n: -sum p log2 p = log2 n - (1/n) sum c log2 c.
-        out.at(x, y) = float(std::max(0.0, std::log2(double(n)) - s / n));
+        out.at(x, y) = float(std::max(0.0, log2n[size_t(n)] - s / n));
         // Remove the leaving column before adding the entering one: a bin never holds more than window^2.
         if (x - r >= 0) add(x - r, -1);
         if (x + r + 1 < w) add(x + r + 1, +1);

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -158,27 +159,69 @@ std::vector<Eigen::Vector3d> PlaceViewpoints(const VoxelMap& map, const ViewsOpt
   return positions;
 }
 
+namespace {
+
+// MeasureView's depth buffer, kept per thread between views.
+std::vector<float>& MeasureScratch() {
+  thread_local std::vector<float> depths;
+  return depths;
+}
+
+}  // namespace
+
+// The k-th smallest of `values` (k < size; the order of `values` is lost), as std::nth_element finds it.
+// Non-negative floats order as their bit patterns: a histogram of the top 16 bits finds the bucket that
+// holds the k-th value, and nth_element runs on that bucket alone. Negative or NaN values: nth_element.
+float NthSmallest(std::vector<float>* values, size_t k) {
+  std::vector<float>& v = *values;
+  std::vector<uint32_t> count(size_t(1) << 16, 0);
+  for (float x : v) {
+    if (!(x >= 0.0f)) {
+      std::nth_element(v.begin(), v.begin() + ptrdiff_t(k), v.end());
+      return v[k];
+    }
+    uint32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    ++count[bits >> 16];
+  }
+  uint32_t bucket = 0;
+  size_t below = 0;
+  while (below + count[bucket] <= k) below += count[bucket++];
+  size_t m = 0;
+  for (float x : v) {  // The bucket's values to the front (in place: v is scratch).
+    uint32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    if ((bits >> 16) == bucket) v[m++] = x;
+  }
+  std::nth_element(v.begin(), v.begin() + ptrdiff_t(k - below), v.begin() + ptrdiff_t(m));
+  return v[k - below];
+}
+
 void MeasureView(const RenderedView& view, const ViewsOptions& options, ViewRecord* record) {
   const size_t n = view.depth.data.size();
-  std::vector<float> depths;
+  std::vector<float>& depths = MeasureScratch();
+  depths.clear();
   depths.reserve(view.hit_pixels);
-  double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+  // The colour sums in integers: exact, so their doubles are those of summing the doubles pixel by pixel
+  // (every partial sum is an integer below 2^53).
+  uint64_t sum_int[3] = {0, 0, 0}, sum2_int[3] = {0, 0, 0};
   for (size_t i = 0; i < n; ++i) {
     if (view.primitive.data[i] < 0) continue;
     depths.push_back(view.depth.data[i]);
     for (int c = 0; c < 3; ++c) {
-      const double v = view.rgb.data[3 * i + c];
-      sum[c] += v;
-      sum2[c] += v * v;
+      const uint64_t v = view.rgb.data[3 * i + c];
+      sum_int[c] += v;
+      sum2_int[c] += v * v;
     }
   }
+  double sum[3], sum2[3];
+  for (int c = 0; c < 3; ++c) sum[c] = double(sum_int[c]), sum2[c] = double(sum2_int[c]);
   const size_t hits = depths.size();
   record->hit_fraction = n ? double(hits) / double(n) : 0.0;
   record->median_depth_m = 0;
   record->color_stddev = 0;
   if (hits > 0) {
-    std::nth_element(depths.begin(), depths.begin() + hits / 2, depths.end());
-    record->median_depth_m = depths[hits / 2];
+    record->median_depth_m = NthSmallest(&depths, hits / 2);
     double var = 0;
     for (int c = 0; c < 3; ++c) {
       const double mean = sum[c] / double(hits);

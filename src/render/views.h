@@ -146,6 +146,9 @@ Result<ViewSet> RenderViews(const ViewRenderer& renderer, const VoxelMap& map, c
 
 // The filter statistics of one rendered view, and the verdict.
 void MeasureView(const RenderedView& view, const ViewsOptions& options, ViewRecord* record);
+// The k-th smallest of `values` (k < size), the value std::nth_element would put at k; reorders `values`.
+// Linear time (a histogram of the float bits, then nth_element on one bucket).
+float NthSmallest(std::vector<float>* values, size_t k);
 
 // OUTDIR/views.json: intrinsics, every pose (world_from_camera, 4x4 row-major), kept / dropped and why,
 // the filter statistics, and thumbnail names (views/view_NNNNN.png) when thumbnails are written.

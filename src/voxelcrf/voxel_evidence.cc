@@ -150,6 +150,13 @@ EvidenceAccumulator::EvidenceAccumulator(const VoxelGrid& grid, const VoxelCrfNo
   footprint_.assign(n, 0.f);
   colour_sum_.assign(n, {0.f, 0.f, 0.f});
   normal_sum_.assign(n, Eigen::Vector3f::Zero());
+  centre_.resize(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const auto cell = grid.Cell(nodes.voxel[i]);
+      centre_[i] = grid.CellCenter(cell[0], cell[1], cell[2]).cast<float>();
+    }
+  });
 }
 
 void EvidenceAccumulator::AddDepthView(const RenderedView& view) {
@@ -211,8 +218,7 @@ void EvidenceAccumulator::AddDepthView(const RenderedView& view) {
       const float deepest = deepest_behind(c, rad);
       if (deepest < 0 || c.z() - rad - deepest > cutoff) continue;
       for (uint32_t i = nodes_.block_begin[b]; i < nodes_.block_begin[b + 1]; ++i) {
-        const auto cell = grid_.Cell(nodes_.voxel[i]);
-        const Eigen::Vector3f p = R * grid_.CellCenter(cell[0], cell[1], cell[2]).cast<float>() + t;
+        const Eigen::Vector3f p = R * centre_[i] + t;
         const float z = p.z();
         if (z <= 1e-3f) continue;
         const float u = fx * p.x() / z + cx, v = fy * p.y() / z + cy;

@@ -135,6 +135,7 @@ class EvidenceAccumulator {
   std::vector<float> sum_f_, footprint_;
   std::vector<std::array<float, 3>> colour_sum_;
   std::vector<Eigen::Vector3f> normal_sum_;
+  std::vector<Eigen::Vector3f> centre_;  // Each node's voxel centre (world frame, float), for AddDepthView.
   std::vector<int32_t> pixel_node_;  // AddDepthView scratch: the node each pixel hits (-1: none).
   std::vector<float> tile_max_depth_;  // AddDepthView scratch: the deepest depth of each pixel tile.
 };

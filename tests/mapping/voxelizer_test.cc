@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 
+#include "mapping/ray_traversal.h"
 #include "scenegen/mesh_builder.h"
 
 namespace semvox {
@@ -262,6 +263,59 @@ TEST(Voxelize, ClosetBehindADoorGetsAPocketPositionAndIsSeenThrough) {
   for (const auto& p : b->scan_positions) {
     EXPECT_TRUE(p.x() > 0 && p.x() < 5.15 && p.y() > 0 && p.y() < 3.0) << p.transpose();
     EXPECT_FALSE(p.x() > 0.1 && p.x() < 1.3 && p.y() > 2.0 && p.y() < 2.9) << "inside the closed wardrobe: " << p.transpose();
+  }
+}
+
+// CastFreeSpace (precomputed targets, rays stepped four at a time with the inside-grid traversal, parallel
+// over the targets) marks exactly the voxels of a plain serial cast with the general traversal, from
+// positions in the middle of the room, on cell borders, and next to the grid's border.
+TEST(Voxelize, CastFreeSpaceEqualsAPlainSerialCast) {
+  Scene scene;
+  scene.mesh = ToMesh(RoomWithTable());
+  VoxelizeOptions options;
+  options.free_space = false;
+  Result<VoxelMap> map = Voxelize(scene, options);
+  ASSERT_TRUE(map.ok());
+  const VoxelGrid surface = map->grid;
+  // (1.0, 1.0, 1.5) lies on cell borders on all three axes.
+  const std::vector<Eigen::Vector3d> all_positions = {{1.0, 1.0, 1.5}, {3.2, 2.1, 0.4}, {2.0, 1.4, 0.3}, {-0.27, 1.5, 1.0},
+                                                  {4.28, 3.28, 2.78}};
+  // Each position alone (a wrong ray shows; with all of them other rays may free its cells), then all.
+  std::vector<std::vector<Eigen::Vector3d>> sets;
+  for (const Eigen::Vector3d& p : all_positions) sets.push_back({p});
+  sets.push_back(all_positions);
+  for (const std::vector<Eigen::Vector3d>& positions : sets)
+  for (double max_range : {10.0, 1.5}) {
+    VoxelGrid fast = surface;
+    const size_t rays = CastFreeSpace(positions, max_range, &fast);
+    VoxelGrid plain = surface;
+    size_t plain_rays = 0;
+    const int okey[3] = {plain.origin_key()[0], plain.origin_key()[1], plain.origin_key()[2]};
+    const int dims[3] = {plain.dims()[0], plain.dims()[1], plain.dims()[2]};
+    for (const Eigen::Vector3d& pos : positions) {
+      const auto oc = plain.CellOf(pos);
+      if (plain.Contains(oc[0], oc[1], oc[2]) && plain.state(plain.Index(oc[0], oc[1], oc[2])) != VoxelState::kOccupied)
+        plain.set_state(plain.Index(oc[0], oc[1], oc[2]), VoxelState::kFree);
+      for (size_t i = 0; i < surface.size(); ++i) {
+        if (surface.state(i) != VoxelState::kOccupied) continue;
+        const auto c = plain.Cell(i);
+        const Eigen::Vector3d target = plain.CellCenter(c[0], c[1], c[2]);
+        if ((target - pos).squaredNorm() > max_range * max_range) continue;
+        ++plain_rays;
+        const Eigen::Vector3d dir = (target - pos).normalized();
+        TraverseGrid(pos.cast<float>(), (target + dir * (0.5 * plain.resolution())).cast<float>(), plain.resolution(), okey,
+                     dims, [&](size_t idx) {
+                       if (plain.state(idx) == VoxelState::kOccupied) return false;
+                       if (plain.state(idx) == VoxelState::kUnknown) plain.set_state(idx, VoxelState::kFree);
+                       return true;
+                     });
+      }
+    }
+    EXPECT_EQ(rays, plain_rays);
+    size_t differ = 0;
+    for (size_t i = 0; i < plain.size(); ++i) differ += plain.state(i) != fast.state(i);
+    EXPECT_EQ(differ, 0u) << "max range " << max_range << ", " << positions.size() << " positions from " << positions[0].transpose();
+    if (positions.size() > 1) EXPECT_GT(fast.CountStates()[1], 1000u);
   }
 }
 

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "io/load_scene.h"
 #include "mapping/voxelizer.h"
@@ -109,6 +111,28 @@ TEST(MeasureView, DropsEmptyTooCloseAndHomogeneousViews) {
   MeasureView(v, options, &r);
   EXPECT_EQ(r.drop, ViewDrop::kHomogeneous);
   EXPECT_EQ(r.color_stddev, 0.0);
+}
+
+// NthSmallest finds the value std::nth_element puts at k: depths with many ties, zeros, a single value,
+// and negative values (which take nth_element's path).
+TEST(MeasureView, NthSmallestEqualsNthElement) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.f, 12.f);
+  for (int trial = 0; trial < 40; ++trial) {
+    const size_t n = 1 + size_t(rng() % 5000);
+    std::vector<float> v(n);
+    for (float& x : v) {
+      x = u(rng);
+      if (trial % 4 == 1) x = std::round(x * 4.f) / 4.f;  // Ties.
+      if (trial % 4 == 2 && rng() % 3 == 0) x = 0.f;
+      if (trial % 4 == 3 && rng() % 5 == 0) x = -x;
+    }
+    for (size_t k : {size_t(0), n / 2, n - 1, size_t(rng() % n)}) {
+      std::vector<float> a = v, b = v;
+      std::nth_element(b.begin(), b.begin() + ptrdiff_t(k), b.end());
+      EXPECT_EQ(NthSmallest(&a, k), b[k]) << "n " << n << " k " << k << " trial " << trial;
+    }
+  }
 }
 
 TEST(RenderViews, DemoApartmentKeptViewsSeeItsSurface) {
