@@ -13,6 +13,7 @@
 
 #include "core/log.h"
 #include "mapping/cloud_geometry.h"
+#include "mapping/lane_traversal.h"
 #include "mapping/ray_traversal.h"
 
 namespace semvox {
@@ -96,20 +97,14 @@ double DistanceToOccupied(const VoxelGrid& grid, const Eigen::Vector3d& from, co
   return hit;
 }
 
-// Free-space rays stepped several at a time (the scheme of mapping/frame_integrator.cc's TraverseLanes, which
-// marks every cell; these stop at the first occupied one), each exactly as TraverseGrid<true> steps it.
+// Free-space rays stepped several at a time (mapping/lane_traversal.h; frame_integrator.cc marks every cell,
+// these stop at the first occupied one), each exactly as TraverseGrid<true> steps it.
 // TraverseGrid<true> needs kInsideMargin cells around both ends so that no ray leaves the grid before its step
 // budget or distance test stops it; a free-space ray needs none: it ends at an occupied target voxel inside
 // the grid (the segment runs half a voxel past the target's centre, so the traversal enters the target's cell
 // unless an earlier occupied voxel stops it), never leaves the grid on the way, and reaches the target after
 // exactly the Manhattan distance in cells, within the budget (the end cell is at most one cell past the target
 // on each axis). The end cell must lie in the grid (its index is compared with the cells entered).
-struct FreeRay {
-  int64_t idx = 0, end_idx = 0, budget = -1;
-  int64_t step_idx[3] = {0, 0, 0};
-  double t_max[3] = {0, 0, 0}, t_delta[3] = {0, 0, 0};
-  double length = 0;
-};
 
 // What a position's rays share: the origin (float, as TraverseGrid takes it) and its cell.
 struct FreeRayOrigin {
@@ -135,7 +130,7 @@ enum class FreeRaySetUp { kLane, kEmpty, kOutside };
 // loop takes the ray). A lane steps from the origin's cell, which the caller visits.
 inline FreeRaySetUp SetUpFreeRay(const FreeRayOrigin& o, const Eigen::Vector3f& end, double resolution,
                                  const int grid_origin_key[3], const int dims[3], const int64_t stride[3],
-                                 FreeRay* ray) {
+                                 LaneRay* ray) {
   const double inv = 1.0 / resolution;
   int64_t ke[3];
   for (int i = 0; i < 3; ++i) {
@@ -143,110 +138,22 @@ inline FreeRaySetUp SetUpFreeRay(const FreeRayOrigin& o, const Eigen::Vector3f& 
     if (ke[i] < 0 || ke[i] >= dims[i]) return FreeRaySetUp::kOutside;
   }
   if (o.cur[0] == ke[0] && o.cur[1] == ke[1] && o.cur[2] == ke[2]) return FreeRaySetUp::kEmpty;
-  ray->idx = o.idx;
-  const Eigen::Vector3f& origin = o.origin;
-  float direction[3] = {end[0] - origin[0], end[1] - origin[1], end[2] - origin[2]};
-  const float norm_sq = direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2];
-  const float length = float(std::sqrt(double(norm_sq)));
-  for (float& d : direction) d /= length;
-  ray->length = length;
-  for (int i = 0; i < 3; ++i) {
-    const int step = direction[i] > 0.0f ? 1 : (direction[i] < 0.0f ? -1 : 0);
-    ray->step_idx[i] = step * stride[i];
-    if (step != 0) {
-      double border = (double(o.cur[i] + grid_origin_key[i] - kKeyOffset) + 0.5) * resolution;
-      border += float(step * resolution * 0.5);
-      ray->t_max[i] = (border - origin[i]) / direction[i];
-      ray->t_delta[i] = resolution / std::fabs(direction[i]);
-    } else {
-      ray->t_max[i] = std::numeric_limits<double>::max();
-      ray->t_delta[i] = std::numeric_limits<double>::max();
-    }
-  }
-  ray->end_idx = ke[2] * stride[2] + ke[1] * stride[1] + ke[0];
-  ray->budget = std::abs(ke[0] - o.cur[0]) + std::abs(ke[1] - o.cur[1]) + std::abs(ke[2] - o.cur[2]) + kInsideMargin;
+  SetUpLaneRay(o.origin, end, o.cur, ke, resolution, grid_origin_key, stride, ray);
   return FreeRaySetUp::kLane;
 }
 
-#pragma GCC diagnostic ignored "-Wpsabi"  // Vectors never cross a call here (all helpers are inlined).
-
-template <int kLanes>
-struct FreeLaneVectors {
-  typedef double D __attribute__((vector_size(8 * kLanes)));
-  typedef int64_t L __attribute__((vector_size(8 * kLanes)));
-};
-
-// Steps kLanes rays at once, each exactly as TraverseGrid<true>'s loop (the axis with the smallest t_max,
-// ties as there; stop on entering the end cell, when the smallest t_max passes the length, or when the step
-// budget is spent), visiting each cell entered: an occupied cell ends the ray, an unknown one becomes free.
-// A lane whose ray is done takes the next ray. Additions only in the t_max updates: the same arithmetic as
-// the scalar loop in every instruction set.
-template <int kLanes>
-inline __attribute__((always_inline)) void CastFreeLanesImpl(const FreeRay* rays, size_t count, uint8_t* cells) {
-  using D = typename FreeLaneVectors<kLanes>::D;
-  using L = typename FreeLaneVectors<kLanes>::L;
-  D t0, t1, t2, d0, d1, d2, len;
-  L idx, end, s0, s1, s2, budget, active;
-  size_t next = 0;
-  const auto load = [&](int lane) {
-    if (next < count) {
-      const FreeRay& r = rays[next++];
-      t0[lane] = r.t_max[0], t1[lane] = r.t_max[1], t2[lane] = r.t_max[2];
-      d0[lane] = r.t_delta[0], d1[lane] = r.t_delta[1], d2[lane] = r.t_delta[2];
-      len[lane] = r.length;
-      idx[lane] = r.idx, end[lane] = r.end_idx;
-      s0[lane] = r.step_idx[0], s1[lane] = r.step_idx[1], s2[lane] = r.step_idx[2];
-      budget[lane] = r.budget;
-      active[lane] = -1;
-    } else {
-      t0[lane] = t1[lane] = t2[lane] = d0[lane] = d1[lane] = d2[lane] = len[lane] = 0;
-      idx[lane] = end[lane] = s0[lane] = s1[lane] = s2[lane] = budget[lane] = 0;
-      active[lane] = 0;
-    }
-  };
-  for (int lane = 0; lane < kLanes; ++lane) load(lane);
-  while (true) {
-    budget -= 1;
-    active &= budget >= 0;
-    const L a01 = t0 < t1, a02 = t0 < t2, a12 = t1 < t2;
-    const L m0 = a01 & a02, m1 = ~a01 & a12, m2 = ~(m0 | m1);
-    idx += (m0 & s0) | (m1 & s1) | (m2 & s2);
-    t0 = m0 ? t0 + d0 : t0;
-    t1 = m1 ? t1 + d1 : t1;
-    t2 = m2 ? t2 + d2 : t2;
-    active &= idx != end;
-    D mn = t1 < t0 ? t1 : t0;  // std::min(std::min(t0, t1), t2).
-    mn = t2 < mn ? t2 : mn;
-    active &= ~(mn > len);
-    bool all = true;
-    for (int lane = 0; lane < kLanes; ++lane) {
-      if (active[lane]) {
-        uint8_t* cellp = cells + idx[lane];
-        const VoxelState s = LoadState(cellp);
-        if (s == VoxelState::kOccupied) {
-          active[lane] = 0;
-          all = false;
-        } else if (s == VoxelState::kUnknown) {
-          StoreState(cellp, VoxelState::kFree);
-        }
-      } else {
-        all = false;
-      }
-    }
-    if (all) continue;
-    bool any = false;
-    for (int lane = 0; lane < kLanes; ++lane) {
-      if (!active[lane]) load(lane);
-      any |= active[lane] != 0;
-    }
-    if (!any) return;
-  }
+// A free-space ray ends at the first occupied cell; unknown cells on the way become free.
+inline __attribute__((always_inline)) bool CastFree(uint8_t* cell) {
+  const VoxelState s = LoadState(cell);
+  if (s == VoxelState::kOccupied) return false;
+  if (s == VoxelState::kUnknown) StoreState(cell, VoxelState::kFree);
+  return true;
 }
 
-__attribute__((target("avx2"))) void CastFreeLanesAvx2(const FreeRay* rays, size_t count, uint8_t* cells) {
-  CastFreeLanesImpl<4>(rays, count, cells);
+__attribute__((target("avx2"))) void CastFreeLanesAvx2(const LaneRay* rays, size_t count, uint8_t* cells) {
+  TraverseLanes<4>(rays, count, cells, CastFree);
 }
-void CastFreeLanesSse2(const FreeRay* rays, size_t count, uint8_t* cells) { CastFreeLanesImpl<2>(rays, count, cells); }
+void CastFreeLanesSse2(const LaneRay* rays, size_t count, uint8_t* cells) { TraverseLanes<2>(rays, count, cells, CastFree); }
 
 }  // namespace
 
@@ -421,7 +328,7 @@ size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_r
     lanes_ok = lanes_ok && LoadState(state + lane_origin.idx) != VoxelState::kOccupied;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, targets.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
       size_t local = 0;
-      std::vector<FreeRay> lanes;
+      std::vector<LaneRay> lanes;
       lanes.reserve(r.size());
       for (size_t j = r.begin(); j != r.end(); ++j) {
         const Eigen::Vector3d& target = targets[j];
@@ -430,7 +337,7 @@ size_t CastFreeSpace(const std::vector<Eigen::Vector3d>& positions, double max_r
         // Extend the segment half a voxel past the target centre so the target cell is entered.
         const Eigen::Vector3d dir = (target - pos).normalized();
         const Eigen::Vector3f end = (target + dir * (0.5 * res)).cast<float>();
-        FreeRay ray;
+        LaneRay ray;
         const FreeRaySetUp setup = lanes_ok ? SetUpFreeRay(lane_origin, end, res, okey, dims, stride, &ray) : FreeRaySetUp::kOutside;
         if (setup == FreeRaySetUp::kLane) lanes.push_back(ray);
         else if (setup == FreeRaySetUp::kOutside) TraverseGrid(origin, end, res, okey, dims, free_until_occupied);
