@@ -192,6 +192,14 @@ Status RunTrainRoomTypeEvidence(const TrainArgs& args) {
   std::vector<std::string> plans = ListR2vPlans(dir);
   plans.resize(std::min(plans.size(), size_t(std::min(args.room_type_plans, kR2vTrainingPlans))));
   if (plans.empty()) return Status::InvalidInput(FileError(dir, "no R2V plan to learn from", "pass --room-type-plans N with N >= 1"));
+  std::vector<uint64_t> seeds, val_seeds;
+  if (!args.room_type_evidence_seeds.empty())
+    SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.room_type_evidence_seeds, "--room-type-evidence-seeds", &seeds));
+  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.val_seeds, "--val-seeds", &val_seeds));
+  for (uint64_t s : seeds)
+    if (std::find(val_seeds.begin(), val_seeds.end(), s) != val_seeds.end())
+      return Status::InvalidInput("--room-type-evidence-seeds: seed " + std::to_string(s) + " is a validation apartment (--val-seeds " +
+                                  args.val_seeds + "); hint: 40-79");
   Result<ViewClassifier> classifier = ViewClassifier::Load(args.outdir + "/second", ViewClassifierOptions{});
   if (!classifier.ok()) return classifier.status();
   Result<KnnClassifier> room_knn = KnnClassifier::Load(args.outdir + "/room_type_knn.bin");
@@ -206,14 +214,6 @@ Status RunTrainRoomTypeEvidence(const TrainArgs& args) {
   if (!scenes.ok()) return scenes.status();
   if (scenes->empty()) return Status::InvalidInput(FileError(dir, "none of the plans could be built into an apartment", "check the R2V files"));
   const size_t plan_scenes = scenes->size();
-  std::vector<uint64_t> seeds, val_seeds;
-  if (!args.room_type_evidence_seeds.empty())
-    SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.room_type_evidence_seeds, "--room-type-evidence-seeds", &seeds));
-  SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.val_seeds, "--val-seeds", &val_seeds));
-  for (uint64_t s : seeds)
-    if (std::find(val_seeds.begin(), val_seeds.end(), s) != val_seeds.end())
-      return Status::InvalidInput("--room-type-evidence-seeds: seed " + std::to_string(s) + " is a validation apartment (--val-seeds " +
-                                  args.val_seeds + "); hint: 40-79");
   Result<std::vector<RoomTypeTrainingScene>> generated =
       GeneratedEvidenceScenes(seeds, *classifier, *room_knn, kRoomViewRangeM, kRoomMinObjectFraction);
   if (!generated.ok()) return generated.status();
