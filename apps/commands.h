@@ -114,6 +114,8 @@ struct TrainArgs {
   bool segments_only = false;               // Train only the object-segment classifier.
   bool room_type_evidence_only = false;     // Relearn only the room-type CRF's evidence terms on R2V plan apartments.
   std::string room_type_evidence_seeds = "40-79";  // ... and on these generated apartments (neither the classifiers' nor validation).
+  std::string room_type_calibration_plans = "250-299";  // ... choosing the weights' scale on these R2V training plans (held out; "" = on the learning scenes).
+  int room_type_ssvm_runs = 3;              // ... averaging the SSVM direction over this many runs.
   bool room_shapes_only = false;            // Train only the room-shape model (real R2V plans).
   bool room_type_statistics_only = false;   // Recompute the R2V fixture statistics of OUTDIR/room_type_crf.json.
   bool room_type_knn_only = false;          // Rebuild OUTDIR/room_type_knn.bin from generated apartments + R2V plans.

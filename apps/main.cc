@@ -112,6 +112,12 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--room-type-evidence-seeds", train.room_type_evidence_seeds,
                         "generated apartments --room-type-evidence learns on beside the plans (default 40-79: apartments neither "
                         "the per-view classifier nor the room-type k-NN saw; empty: plans only)");
+  train_cmd->add_option("--room-type-calibration-plans", train.room_type_calibration_plans,
+                        "--room-type-evidence chooses the weights' scale on these R2V training plans (sorted indices A-B, "
+                        "within 0-299; left out of the learning; default 250-299; empty: on the learning apartments)");
+  train_cmd->add_option("--room-type-ssvm-runs", train.room_type_ssvm_runs,
+                        "--room-type-evidence averages each variant's SSVM direction over this many runs (default 3)")
+      ->check(CLI::Range(1, 20));
   train_cmd->add_option("--room-type-plans", train.room_type_plans,
                         "R2V training plans (the first N sorted, at most 300) whose apartments add rows to the room-type k-NN "
                         "(--room-type-knn) or teach the room-type evidence terms (--room-type-evidence)")

@@ -189,9 +189,26 @@ Status RunTrainRoomTypeEvidence(const TrainArgs& args) {
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec))
     return Status::InvalidInput(FileError(dir, "no such directory (the R2V plans)", "pass --r2v-dir DIR, or run from the source tree's root"));
-  std::vector<std::string> plans = ListR2vPlans(dir);
-  plans.resize(std::min(plans.size(), size_t(std::min(args.room_type_plans, kR2vTrainingPlans))));
-  if (plans.empty()) return Status::InvalidInput(FileError(dir, "no R2V plan to learn from", "pass --room-type-plans N with N >= 1"));
+  const std::vector<std::string> all_plans = ListR2vPlans(dir);
+  // Calibration plans: held out of the learning, within the training split.
+  std::vector<uint64_t> calibration_ids;
+  if (!args.room_type_calibration_plans.empty()) {
+    SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.room_type_calibration_plans, "--room-type-calibration-plans", &calibration_ids));
+    for (uint64_t i : calibration_ids)
+      if (i >= uint64_t(kR2vTrainingPlans))
+        return Status::InvalidInput("--room-type-calibration-plans: plan " + std::to_string(i) + " is a validation plan (the training split is 0-" +
+                                    std::to_string(kR2vTrainingPlans - 1) + "); hint: 250-299");
+  }
+  std::vector<std::string> plans, calibration_plans;
+  for (size_t i = 0; i < all_plans.size() && i < size_t(kR2vTrainingPlans); ++i) {
+    const bool held_out = std::find(calibration_ids.begin(), calibration_ids.end(), uint64_t(i)) != calibration_ids.end();
+    if (held_out)
+      calibration_plans.push_back(all_plans[i]);
+    else if (i < size_t(args.room_type_plans))
+      plans.push_back(all_plans[i]);
+  }
+  if (plans.empty())
+    return Status::InvalidInput(FileError(dir, "no R2V plan to learn from", "pass --room-type-plans N with N >= 1, not all of them calibration plans"));
   std::vector<uint64_t> seeds, val_seeds;
   if (!args.room_type_evidence_seeds.empty())
     SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.room_type_evidence_seeds, "--room-type-evidence-seeds", &seeds));
@@ -222,14 +239,35 @@ Status RunTrainRoomTypeEvidence(const TrainArgs& args) {
   for (const RoomTypeTrainingScene& s : *scenes) views += s.views.size();
   SEMVOX_INFO("train: room-type evidence: " << plan_scenes << " plan apartments (" << skipped << " plans skipped) and " << seeds.size()
                                             << " generated apartments, " << views << " classified views");
+  std::vector<RoomTypeTrainingScene> calibration;
+  int calibration_skipped = 0;
+  if (!calibration_plans.empty()) {
+    Result<std::vector<RoomTypeTrainingScene>> c =
+        PlanEvidenceScenes(calibration_plans, *classifier, *room_knn, kRoomViewRangeM, kRoomMinObjectFraction, &calibration_skipped);
+    if (!c.ok()) return c.status();
+    calibration = std::move(c).value();
+    SEMVOX_INFO("train: room-type evidence: weight scale chosen on " << calibration.size() << " held-out plan apartments ("
+                                                                     << calibration_skipped << " plans skipped)");
+  }
+  // The scale is chosen for the energy `semvox run` samples: with the room-shape term when the model is there.
+  std::optional<RoomShapeModel> shapes;
+  if (Result<RoomShapeModel> s = LoadRoomShapeModel(args.outdir + "/room_shape.json"); s.ok()) shapes = std::move(s).value();
   RoomTypeTrainingOptions rt;
   rt.min_object_fraction = kRoomMinObjectFraction;
-  const std::string report = LearnRoomTypeEvidenceTerms(*scenes, AllRoomTypeVariants(), rt, &*model);
+  rt.ssvm_runs = args.room_type_ssvm_runs;
+  rt.shapes = shapes ? &*shapes : nullptr;
+  const std::string report = LearnRoomTypeEvidenceTerms(*scenes, AllRoomTypeVariants(), rt, &*model, &calibration);
   // The provenance names where the learned terms now come from.
   std::string& prov = model->provenance;
   const std::string now = "confusion, SSVM weights and dense-CRF parameters from " + std::to_string(plan_scenes) +
-                          " apartments built on R2V training plans 0-" + std::to_string(plans.size() - 1) + " and generated apartments " +
-                          args.room_type_evidence_seeds + " (classified training views, room-type k-NN of room_type_knn.bin)";
+                          " apartments built on " + std::to_string(plans.size()) + " R2V training plans (the first " +
+                          std::to_string(args.room_type_plans) + " without " +
+                          (calibration_plans.empty() ? std::string("none") : args.room_type_calibration_plans) + ") and generated apartments " +
+                          args.room_type_evidence_seeds + " (classified training views, room-type k-NN of room_type_knn.bin); SSVM direction the mean of " +
+                          std::to_string(rt.ssvm_runs) + " runs, weight scale chosen on " +
+                          (calibration.empty() ? std::string("the same apartments")
+                                               : std::to_string(calibration.size()) + " apartments on R2V plans " + args.room_type_calibration_plans) +
+                          (shapes ? " with the room-shape term" : "");
   static const std::regex kLearned("confusion, SSVM weights and dense-CRF parameters from .*$");
   prov = std::regex_search(prov, kLearned) ? std::regex_replace(prov, kLearned, now) : prov + "; " + now;
   SEMVOX_RETURN_IF_ERROR(SaveRoomTypeModel(*model, path));

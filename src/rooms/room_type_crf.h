@@ -323,10 +323,12 @@ RoomTypeWeights LearnWeightsSsvm(const std::vector<RoomTypeTrainingScene>& scene
 // depends on the scale (the sampler's temperature). Normalises w so that its largest entry is 1, picks the
 // factor of `scales` whose Gibbs marginals (with the sweeps of `options`) give the best pixel accuracy on the
 // scenes, and returns the scaled weights.
+// With `shapes` (and options.shape_weight > 0) the scenes' rooms get the room-shape term at its fixed weight, as
+// at run time, so the scale is chosen for the energy `semvox run` samples.
 RoomTypeWeights CalibrateWeightScale(const std::vector<RoomTypeTrainingScene>& scenes, const RoomTypeModel& model,
                                      const RoomTypeVariant& variant, const RoomTypeWeights& weights,
                                      const RoomTypeCrfOptions& options, const std::vector<double>& scales,
-                                     double* chosen_scale = nullptr);
+                                     double* chosen_scale = nullptr, const RoomShapeModel* shapes = nullptr);
 // Dense CRF parameters by grid search (the paper, Sec. VI-B) maximising per-pixel accuracy.
 DenseCrfParams LearnDenseCrfParams(const std::vector<RoomTypeTrainingScene>& scenes, const RoomTypeModel& model,
                                    const RoomTypeCrfOptions& options);

@@ -215,12 +215,13 @@ RoomTypeWeights LearnWeightsSsvm(const std::vector<RoomTypeTrainingScene>& scene
 RoomTypeWeights CalibrateWeightScale(const std::vector<RoomTypeTrainingScene>& scenes, const RoomTypeModel& model,
                                      const RoomTypeVariant& variant, const RoomTypeWeights& weights,
                                      const RoomTypeCrfOptions& options, const std::vector<double>& scales,
-                                     double* chosen_scale) {
+                                     double* chosen_scale, const RoomShapeModel* shapes) {
   std::vector<RoomTypeGraph> graphs;
   std::vector<std::vector<int>> truths;
   for (const RoomTypeTrainingScene& s : scenes) {
     Result<RoomTypeGraph> g = BuildRoomTypeGraph(s.plan, s.rooms, s.views, s.topview, model, options);
     if (!g.ok()) continue;
+    if (shapes && options.shape_weight > 0) SetRoomShapeEvidence(s.rooms, s.plan, *shapes, &*g);
     truths.push_back(NodeTruth(*g, s.truth));
     graphs.push_back(std::move(g).value());
   }

@@ -487,18 +487,50 @@ Result<std::vector<RoomTypeTrainingScene>> LeaveOneOutEvidenceScenes(const std::
   return scenes;
 }
 
+namespace {
+
+// The mean of options.ssvm_runs SSVM directions (seeds ssvm.seed, ssvm.seed + 1, ...), each scaled so that its
+// largest weight is 1: one stochastic run's direction moves with its seed's visiting order.
+RoomTypeWeights MeanSsvmDirection(const std::vector<RoomTypeTrainingScene>& scenes, const RoomTypeModel& model,
+                                  const RoomTypeVariant& variant, const RoomTypeTrainingOptions& options) {
+  const int runs = std::max(1, options.ssvm_runs);
+  if (runs == 1) return LearnWeightsSsvm(scenes, model, variant, options.crf, options.ssvm);
+  std::array<double, 2 + kNumObjectGroups> sum{};
+  for (int r = 0; r < runs; ++r) {
+    SsvmOptions ssvm = options.ssvm;
+    ssvm.seed = options.ssvm.seed + uint64_t(r);
+    const RoomTypeWeights w = LearnWeightsSsvm(scenes, model, variant, options.crf, ssvm);
+    std::array<double, 2 + kNumObjectGroups> f{w.scene, w.objects[0], w.objects[1], w.objects[2], w.objects[3], w.homogeneity};
+    const double largest = *std::max_element(f.begin(), f.end());
+    if (largest <= 0) continue;  // No direction (CalibrateWeightScale falls back to the scene term).
+    for (size_t k = 0; k < f.size(); ++k) sum[k] += f[k] / largest / runs;
+  }
+  RoomTypeWeights mean;
+  mean.scene = sum[0];
+  for (int g = 0; g < kNumObjectGroups; ++g) mean.objects[size_t(g)] = sum[size_t(1 + g)];
+  mean.homogeneity = sum[1 + kNumObjectGroups];
+  return mean;
+}
+
+}  // namespace
+
 std::string LearnRoomTypeEvidenceTerms(const std::vector<RoomTypeTrainingScene>& scenes, const std::vector<RoomTypeVariant>& variants,
-                                       const RoomTypeTrainingOptions& options, RoomTypeModel* model) {
+                                       const RoomTypeTrainingOptions& options, RoomTypeModel* model,
+                                       const std::vector<RoomTypeTrainingScene>* calibration) {
   LearnConfusion(scenes, model);
+  const std::vector<RoomTypeTrainingScene>& calibration_scenes = calibration && !calibration->empty() ? *calibration : scenes;
   std::ostringstream rep;
   for (const RoomTypeVariant& v : variants) {
-    const RoomTypeWeights direction = LearnWeightsSsvm(scenes, *model, v, options.crf, options.ssvm);
+    const RoomTypeWeights direction = MeanSsvmDirection(scenes, *model, v, options);
     RoomTypeCrfOptions calib = options.crf;  // Shorter chains for the scale search.
     calib.burn_in_sweeps = 10, calib.sample_sweeps = 30;
     double scale = 1;
-    const RoomTypeWeights w = CalibrateWeightScale(scenes, *model, v, direction, calib, {1, 3, 10, 30, 100}, &scale);
+    const RoomTypeWeights w =
+        CalibrateWeightScale(calibration_scenes, *model, v, direction, calib, {1, 3, 10, 30, 100}, &scale, options.shapes);
     model->SetWeights(v, w);
-    rep << v.Name() << " (SSVM direction x " << scale << "): w_c " << w.scene << " w_obj " << w.objects[0] << " " << w.objects[1] << " " << w.objects[2] << " "
+    rep << v.Name() << " (SSVM direction";
+    if (options.ssvm_runs > 1) rep << ", mean of " << options.ssvm_runs << " runs";
+    rep << " x " << scale << (&calibration_scenes != &scenes ? ", scale on held-out apartments" : "") << "): w_c " << w.scene << " w_obj " << w.objects[0] << " " << w.objects[1] << " " << w.objects[2] << " "
         << w.objects[3] << " w_hom " << w.homogeneity << "\n";
   }
   model->dense = LearnDenseCrfParams(scenes, *model, options.crf);

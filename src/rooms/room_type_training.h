@@ -137,6 +137,11 @@ struct RoomTypeTrainingOptions {
   double min_object_fraction = 0.02;   // As RoomTypeProbabilities.
   std::string r2v_dir;                 // Empty: no R2V statistics.
   int r2v_plans = kR2vTrainingPlans;   // The first this many sorted plans of r2v_dir (the training split).
+  // LearnRoomTypeEvidenceTerms: the SSVM direction of each variant is the mean of this many runs (seeds
+  // ssvm.seed, ssvm.seed + 1, ...; each normalised so that its largest weight is 1). >= 1.
+  int ssvm_runs = 1;
+  // ... and the weight scale is chosen with the room-shape term (at crf.shape_weight) when this is set.
+  const RoomShapeModel* shapes = nullptr;
 };
 
 struct RoomTypeTrainingSummary {
@@ -166,9 +171,13 @@ Result<std::vector<RoomTypeTrainingScene>> LeaveOneOutEvidenceScenes(const std::
 
 // What TrainRoomTypeModel learns from labelled views, on `scenes` with their views set; the statistics already
 // in `model` (objects, homogeneity) are kept: the confusion (Eq. 3), the SSVM weights of `variants` with their
-// scale calibration, and the dense-CRF grid search. Returns one report line per learned piece.
+// scale calibration, and the dense-CRF grid search. The scale of each variant's weights is chosen on
+// `calibration` when given and not empty (apartments held out of the learning, so that the sampler's
+// temperature is not fitted to the scenes the direction came from), else on `scenes`. Returns one report line
+// per learned piece.
 std::string LearnRoomTypeEvidenceTerms(const std::vector<RoomTypeTrainingScene>& scenes, const std::vector<RoomTypeVariant>& variants,
-                                       const RoomTypeTrainingOptions& options, RoomTypeModel* model);
+                                       const RoomTypeTrainingOptions& options, RoomTypeModel* model,
+                                       const std::vector<RoomTypeTrainingScene>* calibration = nullptr);
 
 // The variants `semvox train` learns weights for (Table II rows and their phi_cnn counterparts).
 std::vector<RoomTypeVariant> AllRoomTypeVariants();

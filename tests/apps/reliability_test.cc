@@ -228,6 +228,8 @@ TEST(Reliability, BadInputMatrix) {
       {"output inside the input's directory", "run {D}/scan_dir/scan.ply -o {D}/scan_dir/out", 0, ""},
       {"unknown config key", "run {DEMO} --config {D}/cfg_unknown.yaml -o {D}/out", 2, "unknown key 'mapping.voxelsize'"},
       {"config value out of range", "run {DEMO} --config {D}/cfg_range.yaml -o {D}/out", 2, "mapping.scan_spacing_m = -1"},
+      {"room-type calibration on validation plans", "train --room-type-evidence --r2v-dir {D} --room-type-calibration-plans 290-310 -o {D}/models_x",
+       2, "plan 300 is a validation plan"},
       {"config syntax error", "run {DEMO} --config {D}/cfg_syntax.yaml -o {D}/out", 2, "invalid YAML"},
       {"missing config", "run {DEMO} --config {D}/none.yaml -o {D}/out", 2, "none.yaml: no such file"},
   };

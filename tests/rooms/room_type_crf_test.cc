@@ -12,9 +12,12 @@
 //    plans 300-399 (skipped when ../shared/data/r2v is absent);
 //  - the room-type k-NN's rows of real plans: only typed rooms' views, a plan that is no plan skipped and
 //    counted, the same rows twice; the shipped room_type_knn.bin is exactly the k-NN of the true classes of
-//    seeds 0-39 (byte for byte).
+//    seeds 0-39 (byte for byte);
+//  - the evidence terms' weights: the mean of the SSVM runs' normalised directions, scaled on the held-out
+//    calibration scenes when given (exactly what the steps give by hand).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -295,6 +298,90 @@ TEST(RoomTypeCrf, GeneratedApartmentWithNoisyScenesBeatsTheFloor) {
     EXPECT_GT(a.probability, 0.0);
     EXPECT_NE(a.second_type_id, a.type_id);
   }
+}
+
+// Generated apartment `seed` with synthetic views: 4 per room, each reporting the room's true type with
+// probability `right`, else a random other type.
+RoomTypeTrainingScene NoisyScene(uint64_t seed, double right, uint64_t noise_seed) {
+  Result<RoomTypeTrainingScene> s = RoomTypeSceneFromApartment(seed);
+  EXPECT_TRUE(s.ok());
+  ApartmentOptions ao;
+  ao.seed = seed;
+  Result<Apartment> apt = GenerateApartment(ao);
+  EXPECT_TRUE(apt.ok());
+  std::mt19937_64 rng(noise_seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (const RoomGt& r : apt->rooms)
+    for (int h = 0; h < 4; ++h) {
+      ViewRoomEvidence v;
+      v.position = {0.5 * (r.x0 + r.x1), 0.5 * (r.y0 + r.y1), 1.6};
+      v.yaw_rad = h * M_PI / 2, v.hfov_rad = M_PI / 3, v.max_range_m = 8;
+      int said = r.type_id - 1;
+      if (u(rng) >= right) said = (said + 1 + int(u(rng) * (kRoomTypeLabels - 1))) % kRoomTypeLabels;
+      v.p = Peaked(said, 0.6);
+      s->views.push_back(v);
+    }
+  return std::move(s).value();
+}
+
+TEST(RoomTypeTraining, EvidenceTermsTakeTheMeanSsvmDirectionAndTheHeldOutScale) {
+  // LearnRoomTypeEvidenceTerms with ssvm_runs = 2 and calibration scenes: each variant's weights are the mean of
+  // the two runs' directions (seeds 7 and 8, each with its largest weight 1), scaled as CalibrateWeightScale
+  // scales them on the calibration scenes, not on the learning scenes (exact: every step is deterministic).
+  const std::vector<RoomTypeTrainingScene> scenes = {NoisyScene(0, 0.7, 1)};
+  // Held out: views that mostly lie, so that their best scale differs from the learning scenes'.
+  const std::vector<RoomTypeTrainingScene> calibration = {NoisyScene(2, 0.2, 3)};
+  ObjectRoomCounts counts;
+  for (uint64_t seed = 0; seed < 3; ++seed) {
+    ApartmentOptions ao;
+    ao.seed = seed;
+    counts.Add(CountApartmentObjects(*GenerateApartment(ao)));
+  }
+  RoomTypeTrainingOptions o;
+  o.ssvm.epochs = 4;
+  o.ssvm_runs = 2;
+  RoomTypeModel model = RoomTypeModel::Uninformative();
+  model.object_type = ObjectTypeStatistics(counts);
+  LearnHomogeneityStatistics(scenes, o.crf, &model);
+  const RoomTypeVariant variant;  // conf + gauss + obj, `semvox run`'s default.
+  RoomTypeModel learned = model, on_learning = model;
+  LearnRoomTypeEvidenceTerms(scenes, {variant}, o, &learned, &calibration);
+  RoomTypeTrainingOptions one = o;
+  one.ssvm_runs = 1;
+  LearnRoomTypeEvidenceTerms(scenes, {variant}, one, &on_learning);
+
+  // The same steps by hand (the confusion is learned first and the SSVM sees it).
+  RoomTypeModel m = model;
+  LearnConfusion(scenes, &m);
+  auto normalised = [](const RoomTypeWeights& w) {
+    std::array<double, 6> f{w.scene, w.objects[0], w.objects[1], w.objects[2], w.objects[3], w.homogeneity};
+    const double largest = *std::max_element(f.begin(), f.end());
+    for (double& v : f) v /= largest;
+    return f;
+  };
+  SsvmOptions s7 = o.ssvm, s8 = o.ssvm;
+  s8.seed = s7.seed + 1;
+  const std::array<double, 6> a = normalised(LearnWeightsSsvm(scenes, m, variant, o.crf, s7));
+  const std::array<double, 6> b = normalised(LearnWeightsSsvm(scenes, m, variant, o.crf, s8));
+  RoomTypeWeights mean;
+  mean.scene = (a[0] + b[0]) / 2;
+  for (int g = 0; g < kNumObjectGroups; ++g) mean.objects[size_t(g)] = (a[size_t(1 + g)] + b[size_t(1 + g)]) / 2;
+  mean.homogeneity = (a[5] + b[5]) / 2;
+  RoomTypeCrfOptions calib = o.crf;
+  calib.burn_in_sweeps = 10, calib.sample_sweeps = 30;
+  double scale_held_out = 0;
+  const RoomTypeWeights expected = CalibrateWeightScale(calibration, m, variant, mean, calib, {1, 3, 10, 30, 100}, &scale_held_out);
+  const RoomTypeWeights got = learned.WeightsFor(variant);
+  EXPECT_DOUBLE_EQ(got.scene, expected.scene);
+  for (int g = 0; g < kNumObjectGroups; ++g) EXPECT_DOUBLE_EQ(got.objects[size_t(g)], expected.objects[size_t(g)]);
+  EXPECT_DOUBLE_EQ(got.homogeneity, expected.homogeneity);
+  // One run, no calibration scenes: the plain SSVM direction scaled on the learning scenes.
+  double scale_learning = 0;
+  const RoomTypeWeights plain = CalibrateWeightScale(scenes, m, variant, LearnWeightsSsvm(scenes, m, variant, o.crf, s7), calib,
+                                                     {1, 3, 10, 30, 100}, &scale_learning);
+  EXPECT_DOUBLE_EQ(on_learning.WeightsFor(variant).scene, plain.scene);
+  EXPECT_DOUBLE_EQ(on_learning.WeightsFor(variant).homogeneity, plain.homogeneity);
+  std::printf("scale on the held-out scenes %g, on the learning scenes %g\n", scale_held_out, scale_learning);
 }
 
 TEST(RoomTypeTraining, ShippedFixtureStatisticsCountNoValidationPlan) {
