@@ -451,7 +451,42 @@ Status ViewRenderer::Render(const PinholeCamera& camera, const Eigen::Isometry3d
             packet.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
           }
         }
-        rtcIntersect16(valid, rc.scene, &context, &packet);
+        // Traced as two 8-ray packets (rows 0-1 and 2-3): 8 lanes are AVX2's native packet width, and on the
+        // 2-core AVX2 development machine this, copies included, beat one 16-ray call (render_bench: full
+        // render per CPU second +11-15 %). The same hits bit for bit (render_bench's checksums, whole runs).
+        for (int half = 0; half < 2; ++half) {
+          alignas(32) RTCRayHit8 p8;
+          alignas(32) int v8[8];
+          const int o = 8 * half;
+          for (int l = 0; l < 8; ++l) {
+            v8[l] = valid[o + l];
+            p8.ray.org_x[l] = packet.ray.org_x[o + l];
+            p8.ray.org_y[l] = packet.ray.org_y[o + l];
+            p8.ray.org_z[l] = packet.ray.org_z[o + l];
+            p8.ray.dir_x[l] = packet.ray.dir_x[o + l];
+            p8.ray.dir_y[l] = packet.ray.dir_y[o + l];
+            p8.ray.dir_z[l] = packet.ray.dir_z[o + l];
+            p8.ray.tnear[l] = packet.ray.tnear[o + l];
+            p8.ray.tfar[l] = packet.ray.tfar[o + l];
+            p8.ray.time[l] = packet.ray.time[o + l];
+            p8.ray.mask[l] = packet.ray.mask[o + l];
+            p8.ray.id[l] = packet.ray.id[o + l];
+            p8.ray.flags[l] = packet.ray.flags[o + l];
+            p8.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
+            p8.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
+          }
+          rtcIntersect8(v8, rc.scene, &context, &p8);
+          for (int l = 0; l < 8; ++l) {
+            packet.ray.tfar[o + l] = p8.ray.tfar[l];
+            packet.hit.geomID[o + l] = p8.hit.geomID[l];
+            packet.hit.primID[o + l] = p8.hit.primID[l];
+            packet.hit.u[o + l] = p8.hit.u[l];
+            packet.hit.v[o + l] = p8.hit.v[l];
+            packet.hit.Ng_x[o + l] = p8.hit.Ng_x[l];
+            packet.hit.Ng_y[o + l] = p8.hit.Ng_y[l];
+            packet.hit.Ng_z[o + l] = p8.hit.Ng_z[l];
+          }
+        }
         const int col = sub * kPacketSide;
         local_hits += size_t(avx2 ? ShadePacketAvx2(c, packet, valid, col, &shaded)
                                   : ShadePacketSse2(c, packet, valid, col, &shaded));

@@ -176,9 +176,10 @@ TEST(ViewRenderer, BoxRoomDepthNormalKeyMatchExactGeometry) {
               checked, ambiguous_pixels, ambiguous_axes);
 }
 
-// Render builds each 4 x 4 packet's ray directions from a per-column and a per-row part; they must be the
-// bits of the plain per-pixel product rot * (x, y, 1) (x, y the pixel centre on the z = 1 plane), so the
-// same packets traced the plain way hit the same faces at the same depths, pixel by pixel.
+// Render builds each 4 x 4 packet's ray directions from a per-column and a per-row part and traces it as two
+// 8-ray packets; the directions must be the bits of the plain per-pixel product rot * (x, y, 1) (x, y the
+// pixel centre on the z = 1 plane), and the hits those of the same 16 rays traced as one packet the plain
+// way (Raycaster): the same faces at the same depths, pixel by pixel.
 TEST(ViewRenderer, PacketRaysEqualThePlainPerPixelProduct) {
   BoxRoom room;
   room.hole = {{Eigen::Vector2f(-0.4f, 0.7f), Eigen::Vector2f(0.5f, 1.9f)}};
