@@ -6,6 +6,7 @@
 // SetEdgeCapacities(id, cap_ij, cap_ji), SetTerminalCapacity(node, source_minus_sink) (overwrites), Solve() -> flow, InSinkSegment(node), MemoryBytes(). Every move sets every edge and node.
 #pragma once
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -135,6 +136,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
   std::vector<int> clique_stamp(C, -1);
   std::vector<double> scratch(L, 0.0), old_weight(L, 0.0), new_weight(L, 0.0);
   std::vector<RobustPnMove> plans(C);
+  std::vector<double> clique_constant(C);  // Per clique, the constant of its move (concurrent moves).
   std::vector<uint8_t> edge_live(num_graph_edges, 0);  // The edge had a non-zero capacity in the last cut.
   // Pruning (options.prune_decided_nodes): per node a bound on how much its pairwise and clique terms
   // can change when it switches, whatever the other nodes do: sum over its edges of w * (max V - min V)
@@ -349,30 +351,53 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
         } else {
           edge_range(0, num_pairwise, delta.data(), &pairwise_constant, &truncated);
         }
+        // Clique arcs, after the edges: per member k, member -> z (capacity alpha_slope w_k when x_k != alpha)
+        // and y -> member (dominant_slope w_k when x_k is the dominant label), folded as arc_into folds them.
+        // z and y are never decided, so these arcs change only the terms of z and y (a kept member adds its
+        // arc to z, a switching member takes its arc from y and adds it to the constant), never a member's:
+        // each clique writes its own two nodes and its own edges. So cliques run in parallel when the graph
+        // allows concurrent edge updates, each summing its constant on its own (added in clique order after);
+        // the graph is exactly the serial loop's, only the rounding of the move's constant (which checks the
+        // cut below and nothing else) may differ.
         double* const d = delta.data();
-        // Clique arcs, after the edges (serial).
-        auto arc = [&](int e, int tail, int head, double cap, uint8_t ft, uint8_t fh) {
-          arc_into(d, &pairwise_constant, e, tail, head, cap, ft, fh);
-        };
-        for (int c = 0; c < C; ++c) {
-          const RobustPnMove plan = PlanRobustPnMove(energy, c, labels, alpha, &scratch);
+        auto clique_arcs = [&](int c, std::vector<double>* clique_scratch) {
+          const RobustPnMove plan = PlanRobustPnMove(energy, c, labels, alpha, clique_scratch);
           plans[c] = plan;
           const int z = N + 2 * c, y = z + 1;
-          pairwise_constant += plan.constant;
+          double clique_constant = plan.constant;
+          double dz = 0, dy = 0;
           if (plan.alpha_slope > 0) {  // Q [z = 0] = Q - Q z.
-            pairwise_constant += plan.alpha_aux_cost;
-            d[z] -= plan.alpha_aux_cost;
+            clique_constant += plan.alpha_aux_cost;
+            dz -= plan.alpha_aux_cost;
           }
-          if (plan.dominant >= 0) d[y] += plan.dominant_aux_cost;
+          if (plan.dominant >= 0) dy += plan.dominant_aux_cost;
           const auto nodes = energy.clique_nodes(c);
           const auto weights = energy.clique_weights(c);
           int e = clique_first_edge[c];
           for (size_t k = 0; k < nodes.size(); ++k, e += 2) {
             const int v = nodes[k];
             const CrfLabel xk = x[v];
-            arc(e, v, z, xk != alpha ? plan.alpha_slope * weights[k] : 0.0, state(v), kMoveFree);
-            arc(e + 1, y, v, xk == plan.dominant ? plan.dominant_slope * weights[k] : 0.0, kMoveFree, state(v));
+            const uint8_t fv = state(v);
+            const double to_z = xk != alpha ? plan.alpha_slope * weights[k] : 0.0;
+            set_edge(e, fv == kMoveFree ? to_z : 0.0);
+            dz += fv == kMoveKeep ? to_z : 0.0;
+            const double from_y = xk == plan.dominant ? plan.dominant_slope * weights[k] : 0.0;
+            set_edge(e + 1, fv == kMoveFree ? from_y : 0.0);
+            dy -= fv == kMoveSwitch ? from_y : 0.0;
+            clique_constant += fv == kMoveSwitch ? from_y : 0.0;
           }
+          d[z] += dz;
+          d[y] += dy;
+          return clique_constant;
+        };
+        if (concurrent_edges && C > 1) {
+          tbb::parallel_for(tbb::blocked_range<int>(0, C), [&](const tbb::blocked_range<int>& r) {
+            std::vector<double> clique_scratch(size_t(L), 0.0);
+            for (int c = r.begin(); c != r.end(); ++c) clique_constant[size_t(c)] = clique_arcs(c, &clique_scratch);
+          });
+          for (int c = 0; c < C; ++c) pairwise_constant += clique_constant[size_t(c)];
+        } else {
+          for (int c = 0; c < C; ++c) pairwise_constant += clique_arcs(c, &scratch);
         }
         constant += pairwise_constant;
       }

@@ -2,8 +2,10 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -218,6 +220,11 @@ std::vector<float> ComputeRayStarts(const VoxelGrid& grid, const VoxelCrfNodes& 
 // ---------------------------------------------------------------------------------------------------------
 // Problem construction.
 
+namespace {
+// Fixed node ranges of the problem's per-node passes (the result does not depend on the thread count).
+constexpr int kBuildParts = 2;
+}  // namespace
+
 VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev,
                                      double floor_z, double ceiling_z, const VoxelCrfModel& model,
                                      const std::vector<DetectedPlane>& planes, const VoxelCrfOptions& options,
@@ -227,17 +234,22 @@ VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes&
   VoxelCrfProblem p;
   p.num_nodes = n;
   p.num_labels = K + 1;
-  // Appearance: mean class distribution of the rays each node is visible in.
+  // Appearance: mean class distribution of the rays each node is visible in. kBuildParts fixed node ranges
+  // in parallel, each walking all rays in order and summing only its own nodes' (so every node sums its rays
+  // in ray order, as one pass over the rays does).
   std::vector<float> app(size_t(n) * K, 0.f);
   std::vector<int> count(size_t(n), 0);
-  for (size_t r = 0; r < ev.rays.size(); ++r) {
-    const int32_t node = visible_node_of_ray[r];
-    if (node < 0) continue;
-    const float* o = &ev.observations[size_t(ev.rays[r].observation) * K];
-    float* a = &app[size_t(node) * K];
-    for (int k = 0; k < K; ++k) a[k] += o[k];
-    ++count[size_t(node)];
-  }
+  tbb::parallel_for(0, kBuildParts, [&](int part) {
+    const int32_t lo = int32_t(int64_t(n) * part / kBuildParts), hi = int32_t(int64_t(n) * (part + 1) / kBuildParts);
+    for (size_t r = 0; r < ev.rays.size(); ++r) {
+      const int32_t node = visible_node_of_ray[r];
+      if (node < lo || node >= hi) continue;  // Also skips -1 (not visible).
+      const float* o = &ev.observations[size_t(ev.rays[r].observation) * K];
+      float* a = &app[size_t(node) * K];
+      for (int k = 0; k < K; ++k) a[k] += o[k];
+      ++count[size_t(node)];
+    }
+  });
   p.f_appearance.assign(size_t(n) * K, 0.f);
   p.f_layout.assign(size_t(n) * K, 0.f);
   if (ev.segment.size() == size_t(n) * K) {
@@ -281,37 +293,54 @@ VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes&
     }
   });
   if (options.use_pairwise) {
-    // 3D: 6-adjacent pairs (each once: +x, +y, +z).
+    // 3D: 6-adjacent pairs (each once: +x, +y, +z), node by node in kBuildParts fixed node ranges in
+    // parallel, joined in range order.
     const auto& d = grid.dims();
     const int64_t stride[3] = {1, d[0], int64_t(d[0]) * d[1]};
-    p.edges.reserve(size_t(n) * 3);
-    for (int i = 0; i < n; ++i) {
-      const auto c = grid.Cell(nodes.voxel[size_t(i)]);
-      for (int a = 0; a < 3; ++a) {
-        if (c[size_t(a)] + 1 >= d[size_t(a)]) continue;
-        const int32_t j = nodes.node_of_voxel[size_t(int64_t(nodes.voxel[size_t(i)]) + stride[a])];
-        if (j < 0) continue;
-        int kase;
-        if (visible[size_t(i)] && visible[size_t(j)])
-          kase = (ev.hits[size_t(i)] && ev.hits[size_t(j)]) ? ColourCluster(ev.colour[size_t(i)], ev.colour[size_t(j)]) : 1;
-        else if (visible[size_t(i)] || visible[size_t(j)])
-          kase = 3;
-        else
-          kase = 4;
-        p.edges.push_back({i, j, int16_t(kWPairwise3d + (a == 2 ? 0 : 5) + kase)});
+    std::array<std::vector<VoxelCrfProblem::Edge>, kBuildParts> part_edges;
+    tbb::parallel_for(0, kBuildParts, [&](int part) {
+      std::vector<VoxelCrfProblem::Edge>& out = part_edges[size_t(part)];
+      const int lo = int(int64_t(n) * part / kBuildParts), hi = int(int64_t(n) * (part + 1) / kBuildParts);
+      out.reserve(size_t(hi - lo) * 3);
+      for (int i = lo; i < hi; ++i) {
+        const auto c = grid.Cell(nodes.voxel[size_t(i)]);
+        for (int a = 0; a < 3; ++a) {
+          if (c[size_t(a)] + 1 >= d[size_t(a)]) continue;
+          const int32_t j = nodes.node_of_voxel[size_t(int64_t(nodes.voxel[size_t(i)]) + stride[a])];
+          if (j < 0) continue;
+          int kase;
+          if (visible[size_t(i)] && visible[size_t(j)])
+            kase = (ev.hits[size_t(i)] && ev.hits[size_t(j)]) ? ColourCluster(ev.colour[size_t(i)], ev.colour[size_t(j)]) : 1;
+          else if (visible[size_t(i)] || visible[size_t(j)])
+            kase = 3;
+          else
+            kase = 4;
+          out.push_back({i, j, int16_t(kWPairwise3d + (a == 2 ? 0 : 5) + kase)});
+        }
       }
-    }
-    // 2D: visible voxels of neighbouring rays of one view, close in 3D but not 6-adjacent.
-    std::vector<std::pair<int, int>> pairs;
-    const double max_d2 = std::pow(2.5 * grid.resolution(), 2);
-    size_t r0 = 0;
-    while (r0 < ev.rays.size()) {
+    });
+    size_t num_3d = 0;
+    for (const auto& e : part_edges) num_3d += e.size();
+    p.edges.reserve(num_3d);
+    for (const auto& e : part_edges) p.edges.insert(p.edges.end(), e.begin(), e.end());
+    // 2D: visible voxels of neighbouring rays of one view, close in 3D but not 6-adjacent. Views in parallel,
+    // their pairs joined in view order, then sorted (equal pairs are equal values: any sort gives one order).
+    std::vector<std::pair<size_t, size_t>> view_rays;  // [first, end) ray of each view.
+    for (size_t r0 = 0; r0 < ev.rays.size();) {
       size_t r1 = r0;
+      while (r1 < ev.rays.size() && ev.rays[r1].view == ev.rays[r0].view) ++r1;
+      view_rays.emplace_back(r0, r1);
+      r0 = r1;
+    }
+    std::vector<std::vector<std::pair<int, int>>> view_pairs(view_rays.size());
+    const double max_d2 = std::pow(2.5 * grid.resolution(), 2);
+    tbb::parallel_for(size_t(0), view_rays.size(), [&](size_t v) {
+      const auto [r0, r1] = view_rays[v];
+      std::vector<std::pair<int, int>>& pairs = view_pairs[v];
       int w = 0, h = 0;
-      while (r1 < ev.rays.size() && ev.rays[r1].view == ev.rays[r0].view) {
-        w = std::max(w, ev.rays[r1].px + 1);
-        h = std::max(h, ev.rays[r1].py + 1);
-        ++r1;
+      for (size_t r = r0; r < r1; ++r) {
+        w = std::max(w, ev.rays[r].px + 1);
+        h = std::max(h, ev.rays[r].py + 1);
       }
       std::vector<int32_t> img(size_t(w) * h, -1);
       for (size_t r = r0; r < r1; ++r) img[size_t(ev.rays[r].py) * w + ev.rays[r].px] = visible_node_of_ray[r];
@@ -332,10 +361,13 @@ VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes&
             pairs.emplace_back(std::min(a, b), std::max(a, b));
           }
         }
-      r0 = r1;
-    }
-    std::sort(pairs.begin(), pairs.end());
+    });
+    std::vector<std::pair<int, int>> pairs;
+    for (const auto& vp : view_pairs) pairs.insert(pairs.end(), vp.begin(), vp.end());
+    view_pairs.clear();
+    tbb::parallel_sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    p.edges.reserve(p.edges.size() + pairs.size());
     for (const auto& [a, b] : pairs) p.edges.push_back({a, b, int16_t(kWPairwise2d)});
   }
   if (options.use_higher_order) {

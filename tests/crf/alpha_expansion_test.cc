@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <random>
 
+#include "crf/alpha_expansion_impl.h"
 #include "crf/energy.h"
+#include "crf/max_flow.h"
 #include "crf/solvers.h"
 #include "tests/crf/crf_test_util.h"
 
@@ -317,6 +319,78 @@ TEST(AlphaExpansion, LargeMovesGiveTheSameResultOnOneThreadAndOnAll) {
   EXPECT_GT(s2.num_pruned_nodes, 0);
   ExpectMonotone(s2, "large grid");
   EXPECT_LT(s2.final_energy, s2.initial_energy);
+}
+
+// MaxFlowGraph without PrepareConcurrentEdgeUpdates: RunAlphaExpansion then builds every move in one serial
+// pass (edges, cliques, terminal capacities), the plain version of the parallel passes.
+class SerialMovesGraph {
+ public:
+  int AddNodes(int count) { return graph_.AddNodes(count); }
+  void ReserveEdges(size_t count) { graph_.ReserveEdges(count); }
+  int AddEdge(int i, int j, double cap_ij, double cap_ji) { return graph_.AddEdge(i, j, cap_ij, cap_ji); }
+  void ResetFlow() { graph_.ResetFlow(); }
+  void SetEdgeCapacities(int edge, double cap_ij, double cap_ji) { graph_.SetEdgeCapacities(edge, cap_ij, cap_ji); }
+  void SetTerminalCapacity(int node, double source_minus_sink) { graph_.SetTerminalCapacity(node, source_minus_sink); }
+  double Solve() { return graph_.Solve(); }
+  bool InSinkSegment(int node) const { return graph_.InSinkSegment(node); }
+  size_t MemoryBytes() const { return graph_.MemoryBytes(); }
+
+ private:
+  MaxFlowGraph<double> graph_;
+};
+
+// The moves of a large problem with many overlapping Robust P^n cliques (their members shared between
+// cliques and with the pairwise edges), built in parallel (edges in ranges, cliques one by one), give the
+// labels, the energy after every expansion and the pruning of the plain serial construction.
+TEST(AlphaExpansion, ParallelMovesWithManyCliquesEqualTheSerialMoves) {
+  const int w = 200, h = 180, L = 7;
+  CrfEnergy energy(w * h, L);
+  std::mt19937_64 rng(33);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int truth = (x / 25 + y / 18) % L;
+      for (int l = 0; l < L; ++l) energy.SetUnary(y * w + x, l, (l == truth ? 0.0f : 0.6f) + unit(rng));
+      if (x + 1 < w) energy.AddEdge(y * w + x, y * w + x + 1, 0.3f);
+      if (y + 1 < h) energy.AddEdge(y * w + x, (y + 1) * w + x, 0.3f);
+    }
+  // Blocks of 20 x 12 on a 10 x 6 stride: every pixel inside lies in up to four cliques; plus rows.
+  for (int y0 = 0; y0 + 12 <= h; y0 += 6)
+    for (int x0 = 0; x0 + 20 <= w; x0 += 10) {
+      std::vector<int> members;
+      std::vector<float> weights;
+      for (int y = y0; y < y0 + 12; ++y)
+        for (int x = x0; x < x0 + 20; ++x) {
+          members.push_back(y * w + x);
+          weights.push_back(0.5f + unit(rng));
+        }
+      RobustPnParams p;
+      p.gamma_max = 4 + 4 * unit(rng);
+      p.truncation_q = 40 + 60 * unit(rng);
+      energy.AddRobustPnClique(members, p, weights);
+    }
+  for (int y = 0; y < h; y += 9) {
+    std::vector<int> members;
+    for (int x = 0; x < w; ++x) members.push_back(y * w + x);
+    RobustPnParams p;
+    p.gamma_max = 10;
+    p.truncation_q = 60;
+    energy.AddRobustPnClique(members, p);
+  }
+  ASSERT_GE(energy.edges().size(), size_t(1) << 15);  // Large enough for the parallel moves.
+  ASSERT_GT(energy.num_cliques(), 500);
+  AlphaExpansionOptions options;
+  std::vector<CrfLabel> serial, parallel;
+  CrfSolverSummary ss, sp;
+  SerialMovesGraph serial_graph;
+  ASSERT_TRUE(crf_internal::RunAlphaExpansion(energy, options, serial_graph, &serial, &ss).ok());
+  ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, options, &parallel, &sp).ok());
+  EXPECT_EQ(serial, parallel);
+  EXPECT_EQ(ss.energy_per_expansion, sp.energy_per_expansion);
+  EXPECT_EQ(ss.energy_per_sweep, sp.energy_per_sweep);
+  EXPECT_EQ(ss.num_pruned_nodes, sp.num_pruned_nodes);
+  EXPECT_GT(sp.num_moves, 0);
+  ExpectMonotone(sp, "cliques");
 }
 
 // min_sweep_improvement stops after the first sweep that gains less than that fraction of |E|; the moves

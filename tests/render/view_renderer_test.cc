@@ -176,6 +176,51 @@ TEST(ViewRenderer, BoxRoomDepthNormalKeyMatchExactGeometry) {
               checked, ambiguous_pixels, ambiguous_axes);
 }
 
+// Render builds each 4 x 4 packet's ray directions from a per-column and a per-row part and traces it as two
+// 8-ray packets; the directions must be the bits of the plain per-pixel product rot * (x, y, 1) (x, y the
+// pixel centre on the z = 1 plane), and the hits those of the same 16 rays traced as one packet the plain
+// way (Raycaster): the same faces at the same depths, pixel by pixel.
+TEST(ViewRenderer, PacketRaysEqualThePlainPerPixelProduct) {
+  BoxRoom room;
+  room.hole = {{Eigen::Vector2f(-0.4f, 0.7f), Eigen::Vector2f(0.5f, 1.9f)}};
+  Scene scene;
+  scene.mesh = room.Build();
+  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
+  ASSERT_TRUE(renderer.ok()) << renderer.status().message();
+  const PinholeCamera camera = PinholeCamera::FromHorizontalFov(72, 52, 75);  // Whole 4 x 4 packets.
+  RenderOptions options;
+  options.voxel_size_m = kVoxel;
+  RenderedView view;
+  for (const Pose& pose : kPoses) {
+    const Eigen::Isometry3d world_from_camera = WorldFromCameraYawPitch(pose.position, pose.yaw, pose.pitch);
+    ASSERT_TRUE(renderer->Render(camera, world_from_camera, options, &view).ok());
+    const Eigen::Matrix3f rot = world_from_camera.linear().cast<float>();
+    const Eigen::Vector3f org = world_from_camera.translation().cast<float>();
+    // The rays in Render's packet order: 4 x 4 pixel blocks, row by row inside a block.
+    std::vector<Ray> rays;
+    std::vector<std::pair<int, int>> pixel;
+    for (int sy = 0; sy < camera.height; sy += 4)
+      for (int sx = 0; sx < camera.width; sx += 4)
+        for (int lane = 0; lane < 16; ++lane) {
+          const int x = sx + lane % 4, y = sy + lane / 4;
+          const float xs = float((x + 0.5 - camera.cx) / camera.fx), ys = float((y + 0.5 - camera.cy) / camera.fy);
+          rays.push_back(Ray{org, rot * Eigen::Vector3f(xs, ys, 1.0f), 0.0f, float(options.max_depth_m)});
+          pixel.emplace_back(x, y);
+        }
+    std::vector<RayHit> hits(rays.size());
+    renderer->raycaster().IntersectSerial(rays, hits);
+    size_t hit = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const auto [x, y] = pixel[i];
+      ASSERT_EQ(view.primitive.at(x, y), hits[i].primitive) << x << "," << y;
+      if (!hits[i].hit()) continue;
+      ++hit;
+      ASSERT_EQ(view.depth.at(x, y), hits[i].distance) << x << "," << y;  // Bit for bit.
+    }
+    EXPECT_GT(hit, rays.size() / 2);
+  }
+}
+
 TEST(ViewRenderer, HoleInWallGivesEmptyPixels) {
   BoxRoom room;
   room.hole = std::make_pair(Eigen::Vector2f(-0.4f, 0.6f), Eigen::Vector2f(0.7f, 1.9f));  // (y, z) ranges.

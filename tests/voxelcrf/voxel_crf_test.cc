@@ -301,6 +301,119 @@ TEST(VoxelEvidence, OcclusionCullingKeepsTheDepthEvidenceOfEveryNode) {
   EXPECT_GT(observed, nodes.size() / 4);
 }
 
+// BuildVoxelCrfProblem's passes over rays, nodes and views run in parallel (fixed node ranges, views one by
+// one): the appearance sums, the 3D edges and the 2D edges of a cabinet room with classified views equal
+// those of plain serial passes written out here.
+TEST(VoxelCrfProblem, ParallelBuildEqualsPlainSerialPasses) {
+  CabinetRoom room = MakeCabinetRoom();
+  const Scene scene = MeshScene(room.mesh);
+  const VoxelMap map = MapOf(scene);
+  const VoxelGrid& g = map.grid;
+  const int K = 3;
+  const VoxelCrfNodes nodes = SelectVoxelCrfNodes(g, map.floor_z, map.ceiling_z, VoxelEvidenceOptions{});
+  EvidenceAccumulator acc(g, nodes, K, VoxelEvidenceOptions{});
+  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
+  ASSERT_TRUE(renderer.ok());
+  ViewsOptions vo;
+  vo.width = 160;
+  vo.height = 120;
+  vo.tilted_ring_deg = 40;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<float> unit(0.05f, 1.0f);
+  Result<ViewSet> views = RenderViews(*renderer, map, vo, [&](const ViewRecord& r, const RenderedView& view) {
+    if (!r.kept()) return Status::Ok();
+    acc.AddDepthView(view);
+    std::vector<float> probs(size_t(view.camera.width) * view.camera.height * K);
+    for (size_t i = 0; i < probs.size(); i += K) {  // Random distributions: sums that round differently by order.
+      float sum = 0;
+      for (int k = 0; k < K; ++k) sum += probs[i + size_t(k)] = unit(rng);
+      for (int k = 0; k < K; ++k) probs[i + size_t(k)] /= sum;
+    }
+    acc.AddClassifiedView(view, nullptr, probs);
+    return Status::Ok();
+  });
+  ASSERT_TRUE(views.ok()) << views.status().message();
+  const VoxelEvidence ev = std::move(acc).Finish();
+  std::vector<int> labels(nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i) labels[i] = nodes.initial_state[i] == uint8_t(VoxelState::kOccupied);
+  const std::vector<int32_t> vis = ComputeVisibility(g, nodes, ev, labels);
+  const VoxelCrfModel model = VoxelCrfModel::Default({nyu40::kWall, nyu40::kFloor, nyu40::kCabinet}, {"wall", "floor", "cabinet"});
+  const VoxelCrfProblem p = BuildVoxelCrfProblem(g, nodes, ev, map.floor_z, map.ceiling_z, model, {}, VoxelCrfOptions{}, vis);
+  const size_t n = nodes.size();
+
+  // Appearance: one pass over the rays, -log(max(mean, 1e-3)).
+  std::vector<float> app(n * K, 0.f);
+  std::vector<int> count(n, 0);
+  for (size_t r = 0; r < ev.rays.size(); ++r) {
+    if (vis[r] < 0) continue;
+    for (int k = 0; k < K; ++k) app[size_t(vis[r]) * K + size_t(k)] += ev.observations[size_t(ev.rays[r].observation) * K + size_t(k)];
+    ++count[size_t(vis[r])];
+  }
+  size_t visible = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (count[i] == 0) continue;
+    ++visible;
+    for (int k = 0; k < K; ++k)
+      ASSERT_EQ(p.f_appearance[i * K + size_t(k)], -std::log(std::max(app[i * K + size_t(k)] / float(count[i]), 1e-3f))) << "node " << i;
+  }
+  EXPECT_GT(visible, n / 10);
+
+  // 3D edges: node by node, +x, +y, +z neighbours that are nodes (their types are per-edge values).
+  const auto& d = g.dims();
+  const int64_t stride[3] = {1, d[0], int64_t(d[0]) * d[1]};
+  std::vector<std::pair<int, int>> edges;
+  for (size_t i = 0; i < n; ++i) {
+    const auto c = g.Cell(nodes.voxel[i]);
+    for (int a = 0; a < 3; ++a) {
+      if (c[size_t(a)] + 1 >= d[size_t(a)]) continue;
+      const int32_t j = nodes.node_of_voxel[size_t(int64_t(nodes.voxel[i]) + stride[a])];
+      if (j >= 0) edges.emplace_back(int(i), j);
+    }
+  }
+  // 2D edges: neighbouring pixels of one view whose nodes are close but not 6-adjacent; sorted, unique.
+  std::vector<std::pair<int, int>> pairs;
+  for (size_t r0 = 0; r0 < ev.rays.size();) {
+    size_t r1 = r0;
+    int w = 0, h = 0;
+    for (; r1 < ev.rays.size() && ev.rays[r1].view == ev.rays[r0].view; ++r1) {
+      w = std::max(w, ev.rays[r1].px + 1);
+      h = std::max(h, ev.rays[r1].py + 1);
+    }
+    std::vector<int32_t> img(size_t(w) * h, -1);
+    for (size_t r = r0; r < r1; ++r) img[size_t(ev.rays[r].py) * w + ev.rays[r].px] = vis[r];
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int k = 0; k < 2; ++k) {
+          const int xx = x + (k == 0), yy = y + (k == 1);
+          if (xx >= w || yy >= h) continue;
+          const int32_t a = img[size_t(y) * w + x], b = img[size_t(yy) * w + xx];
+          if (a < 0 || b < 0 || a == b) continue;
+          const auto ca = g.Cell(nodes.voxel[size_t(a)]), cb = g.Cell(nodes.voxel[size_t(b)]);
+          const int dx = ca[0] - cb[0], dy = ca[1] - cb[1], dz = ca[2] - cb[2];
+          if (std::abs(dx) + std::abs(dy) + std::abs(dz) <= 1) continue;
+          if (double(dx * dx + dy * dy + dz * dz) * g.resolution() * g.resolution() > std::pow(2.5 * g.resolution(), 2)) continue;
+          pairs.emplace_back(std::min(a, b), std::max(a, b));
+        }
+    r0 = r1;
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  EXPECT_GT(pairs.size(), size_t(0));
+  ASSERT_EQ(p.edges.size(), edges.size() + pairs.size());
+  for (size_t e = 0; e < edges.size(); ++e) {
+    ASSERT_EQ(p.edges[e].i, edges[e].first) << "edge " << e;
+    ASSERT_EQ(p.edges[e].j, edges[e].second) << "edge " << e;
+    ASSERT_GE(p.edges[e].type, kWPairwise3d);
+    ASSERT_LT(p.edges[e].type, kWPairwise2d);
+  }
+  for (size_t e = 0; e < pairs.size(); ++e) {
+    const VoxelCrfProblem::Edge& got = p.edges[edges.size() + e];
+    ASSERT_EQ(got.i, pairs[e].first) << "2D edge " << e;
+    ASSERT_EQ(got.j, pairs[e].second) << "2D edge " << e;
+    ASSERT_EQ(got.type, kWPairwise2d);
+  }
+}
+
 TEST(VoxelCrf, PlaneCompletionLabelsTheWallBehindACabinetAsWall) {
   CabinetRoom room = MakeCabinetRoom();
   const Scene scene = MeshScene(room.mesh);
