@@ -248,6 +248,25 @@ TEST(RoomTypeCrf, ModelRoundTripsThroughJson) {
   EXPECT_FALSE(LoadRoomTypeModel(path).ok());
 }
 
+// Synthetic views of `apt`: 4 per room from its box middle, each naming the room's true type with probability
+// `right`, else a random other type, with `mass` on the named type.
+std::vector<ViewRoomEvidence> NoisyViews(const Apartment& apt, double right, double mass, uint64_t noise_seed) {
+  std::mt19937_64 rng(noise_seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<ViewRoomEvidence> views;
+  for (const RoomGt& r : apt.rooms)
+    for (int h = 0; h < 4; ++h) {
+      ViewRoomEvidence v;
+      v.position = {0.5 * (r.x0 + r.x1), 0.5 * (r.y0 + r.y1), 1.6};
+      v.yaw_rad = h * M_PI / 2, v.hfov_rad = M_PI / 3, v.max_range_m = 8;
+      int said = r.type_id - 1;
+      if (u(rng) >= right) said = (said + 1 + int(u(rng) * (kRoomTypeLabels - 1))) % kRoomTypeLabels;
+      v.p = Peaked(said, mass);
+      views.push_back(v);
+    }
+  return views;
+}
+
 TEST(RoomTypeCrf, GeneratedApartmentWithNoisyScenesBeatsTheFloor) {
   // Statistics from training apartments 0-9 (ground truth only), evidence synthetic.
   std::vector<RoomTypeTrainingScene> train;
@@ -270,19 +289,7 @@ TEST(RoomTypeCrf, GeneratedApartmentWithNoisyScenesBeatsTheFloor) {
   ASSERT_TRUE(apt.ok());
   Result<RoomTypeTrainingScene> val = RoomTypeSceneFromApartment(100);
   ASSERT_TRUE(val.ok());
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::vector<ViewRoomEvidence> views;
-  for (const RoomGt& r : apt->rooms)
-    for (int h = 0; h < 4; ++h) {
-      ViewRoomEvidence v;
-      v.position = {0.5 * (r.x0 + r.x1), 0.5 * (r.y0 + r.y1), 1.6};
-      v.yaw_rad = h * M_PI / 2, v.hfov_rad = M_PI / 3, v.max_range_m = 8;
-      int said = r.type_id - 1;
-      if (u(rng) >= 0.5) said = (said + 1 + int(u(rng) * (kRoomTypeLabels - 1))) % kRoomTypeLabels;
-      v.p = Peaked(said, 0.5);
-      views.push_back(v);
-    }
+  const std::vector<ViewRoomEvidence> views = NoisyViews(*apt, 0.5, 0.5, 5);
   o.variant = {ScenePotential::kConfusion, HomogeneityPotential::kStatistics, true};
   model.SetWeights(o.variant, RoomTypeWeights{4.0, {1, 1, 2, 1}, 1.0});
   Result<RoomTypeResult> crf = InferRoomTypes(val->plan, val->rooms, views, val->topview, model, o);
@@ -303,8 +310,7 @@ TEST(RoomTypeCrf, GeneratedApartmentWithNoisyScenesBeatsTheFloor) {
   }
 }
 
-// Generated apartment `seed` with synthetic views: 4 per room, each reporting the room's true type with
-// probability `right`, else a random other type.
+// Generated apartment `seed` with NoisyViews (probability 0.6 on the type each view names).
 RoomTypeTrainingScene NoisyScene(uint64_t seed, double right, uint64_t noise_seed) {
   Result<RoomTypeTrainingScene> s = RoomTypeSceneFromApartment(seed);
   EXPECT_TRUE(s.ok());
@@ -312,18 +318,7 @@ RoomTypeTrainingScene NoisyScene(uint64_t seed, double right, uint64_t noise_see
   ao.seed = seed;
   Result<Apartment> apt = GenerateApartment(ao);
   EXPECT_TRUE(apt.ok());
-  std::mt19937_64 rng(noise_seed);
-  std::uniform_real_distribution<double> u(0, 1);
-  for (const RoomGt& r : apt->rooms)
-    for (int h = 0; h < 4; ++h) {
-      ViewRoomEvidence v;
-      v.position = {0.5 * (r.x0 + r.x1), 0.5 * (r.y0 + r.y1), 1.6};
-      v.yaw_rad = h * M_PI / 2, v.hfov_rad = M_PI / 3, v.max_range_m = 8;
-      int said = r.type_id - 1;
-      if (u(rng) >= right) said = (said + 1 + int(u(rng) * (kRoomTypeLabels - 1))) % kRoomTypeLabels;
-      v.p = Peaked(said, 0.6);
-      s->views.push_back(v);
-    }
+  s->views = NoisyViews(*apt, right, 0.6, noise_seed);
   return std::move(s).value();
 }
 
