@@ -5,6 +5,8 @@
 //                 [--height-grid-position 0.5] [--small-only 0|1|2 (2: the check image only)]
 //   support_bench --kernel-shape D [--refinement-5d R]   (the lattice's kernel between two points in D dimensions)
 //   support_bench --train OUT.svm [--train-seeds 0-39] [--val-seeds 100-109]   (same as `semvox train`'s step)
+//   support_bench --validate MODEL.svm [--val-seeds 100-109] [--grid-factor F] [--iterations N]
+//                 (the model's validation scores, svm and svm_crf, as `semvox train` reports them)
 //
 // 0. The check image of objects/dense_crf_check.h (40 x 30, the settings of
 //    DenseCrf.PermutohedralMeanFieldMatchesBruteForce, i.e. the pipeline's filters, unless overridden by
@@ -129,6 +131,8 @@ int main(int argc, char** argv) {
   int repeats = 3, sample = 400, region_px = 0;
   double crf_weight_scale = 1.0, svm_c = 0, svm_gamma = 0;
   int other_rows = 0, balance = -1, small_scaled = 0, small_only = 0, kernel_shape = 0;
+  std::string validate_model;
+  int grid_factor = SupportClutterOptions{}.crf_grid_factor, iterations = DenseCrfOptions{}.iterations;
   // Lattice refinements (DenseCrfOptions::lattice_refinement, lattice_refinement_5d) for the small-image
   // comparisons and for the 640 x 480 runs, and the smoothness / height filters (all runs); default: the
   // pipeline's, DenseCrfOptions{}, which the test uses too.
@@ -143,6 +147,9 @@ int main(int argc, char** argv) {
     else if (a == "--repeats") repeats = std::atoi(argv[i + 1]);
     else if (a == "--sample") sample = std::atoi(argv[i + 1]);
     else if (a == "--train") train_out = argv[i + 1];
+    else if (a == "--validate") validate_model = argv[i + 1];
+    else if (a == "--grid-factor") grid_factor = std::atoi(argv[i + 1]);
+    else if (a == "--iterations") iterations = std::atoi(argv[i + 1]);
     else if (a == "--train-proposals") proposals_out = argv[i + 1];
     else if (a == "--nyu4") nyu4_prefix = argv[i + 1];
     else if (a == "--region-px") region_px = std::atoi(argv[i + 1]);
@@ -185,6 +192,21 @@ int main(int argc, char** argv) {
     Status st = det->Save(proposals_out);
     if (!st.ok()) { std::fprintf(stderr, "support_bench: %s\n", st.message().c_str()); return 1; }
     std::printf("%s\n", summary.ToJson().dump(2).c_str());
+    return 0;
+  }
+  if (!validate_model.empty()) {
+    SupportTrainingOptions options;
+    options.val_seeds = Seeds(val_seeds);
+    options.classifier.crf_grid_factor = grid_factor;
+    options.classifier.crf.iterations = iterations;
+    Result<SupportClutterClassifier> clf = SupportClutterClassifier::Load(validate_model, options.classifier);
+    if (!clf.ok()) { std::fprintf(stderr, "support_bench: %s\n", clf.status().message().c_str()); return 2; }
+    SupportTrainingSummary summary;
+    const auto t0 = std::chrono::steady_clock::now();
+    Status st = ValidateSupportClutter(*clf, options, &summary);
+    if (!st.ok()) { std::fprintf(stderr, "support_bench: %s\n", st.message().c_str()); return 1; }
+    summary.seconds = Ms(t0) / 1000;
+    std::printf("grid factor %d, %d iterations\n%s\n", grid_factor, iterations, summary.ToJson().dump(2).c_str());
     return 0;
   }
   if (!train_out.empty()) {

@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Core>
+
 #include <algorithm>
 #include <cmath>
 
@@ -236,6 +238,85 @@ std::vector<float> DenseCrf::MeanField(const std::vector<float>& probabilities, 
     });
   }
   return q;
+}
+
+Result<std::vector<float>> CoarseGridMeanField(const DenseCrfInput& input, const DenseCrfOptions& options,
+                                               const std::vector<float>& probabilities, int m, int factor) {
+  if (factor < 1) return Status::InvalidInput("dense CRF: grid factor " + std::to_string(factor) + " < 1");
+  if (!input.rgb || !input.height || !input.normal) return Status::InvalidInput("dense CRF: need the RGB, height and normal images");
+  const int w = input.rgb->width, h = input.rgb->height;
+  const size_t n = size_t(w) * size_t(h), mm = size_t(m);
+  if (m < 1 || probabilities.size() != n * mm)
+    return Status::InvalidInput("dense CRF: " + std::to_string(probabilities.size()) + " unary probabilities for " + std::to_string(n) +
+                                " pixels and " + std::to_string(m) + " labels");
+  if (factor == 1 || options.iterations == 0) {
+    Result<DenseCrf> crf = DenseCrf::Create(input, options);
+    if (!crf.ok()) return crf.status();
+    return crf->MeanField(probabilities, m);
+  }
+  const int cw = (w + factor - 1) / factor, ch = (h + factor - 1) / factor;
+  ImageRgb8 rgb(cw, ch, 3, 0);
+  ImageF32 height(cw, ch, 1, 0.f), normal(cw, ch, 3, 0.f);
+  std::vector<float> p(size_t(cw) * size_t(ch) * mm, 0.f);
+  tbb::parallel_for(tbb::blocked_range<int>(0, ch, 4), [&](const tbb::blocked_range<int>& range) {
+    for (int by = range.begin(); by < range.end(); ++by)
+      for (int bx = 0; bx < cw; ++bx) {
+        float colour[3] = {0, 0, 0}, z = 0;
+        Eigen::Vector3f nsum = Eigen::Vector3f::Zero();
+        int count = 0, with_depth = 0;
+        float* pb = &p[(size_t(by) * size_t(cw) + size_t(bx)) * mm];
+        for (int y = by * factor; y < std::min(h, (by + 1) * factor); ++y)
+          for (int x = bx * factor; x < std::min(w, (bx + 1) * factor); ++x) {
+            ++count;
+            for (int c = 0; c < 3; ++c) colour[c] += float(input.rgb->at(x, y, c));
+            const Eigen::Vector3f nrm(input.normal->at(x, y, 0), input.normal->at(x, y, 1), input.normal->at(x, y, 2));
+            if (nrm.squaredNorm() > 0) {
+              ++with_depth;
+              z += input.height->at(x, y);
+              nsum += nrm;
+            }
+            const float* pi = &probabilities[(size_t(y) * size_t(w) + size_t(x)) * mm];
+            for (size_t l = 0; l < mm; ++l) pb[l] += pi[l];
+          }
+        for (int c = 0; c < 3; ++c) rgb.at(bx, by, c) = uint8_t(std::lround(colour[c] / float(count)));
+        for (size_t l = 0; l < mm; ++l) pb[l] /= float(count);
+        if (with_depth > 0) {
+          height.at(bx, by) = z / float(with_depth);
+          const float len = nsum.norm();
+          if (len > 1e-6f)
+            for (int c = 0; c < 3; ++c) normal.at(bx, by, c) = nsum[c] / len;
+        }
+      }
+  });
+  DenseCrfOptions coarse = options;
+  coarse.position_scale_px /= factor;
+  coarse.smoothness_scale_px /= factor;
+  coarse.iterations = options.iterations - 1;
+  Result<DenseCrf> crf = DenseCrf::Create({&rgb, &height, &normal}, coarse);
+  if (!crf.ok()) return crf.status();
+  const std::vector<float> q = crf->MeanField(p, m);
+  std::vector<float> messages;
+  crf->Messages(q, m, false, &messages);
+  // The last update per pixel, as MeanField's: Q_i(l) ~ exp(-psi_u,i(l) + message of its block).
+  std::vector<float> out(n * mm);
+  const float floor = float(options.probability_floor);
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& range) {
+    std::vector<float> logit(mm);
+    for (int y = range.begin(); y < range.end(); ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * size_t(w) + size_t(x);
+        const float* pi = &probabilities[i * mm];
+        const float* msg = &messages[(size_t(y / factor) * size_t(cw) + size_t(x / factor)) * mm];
+        float s = 0;
+        for (size_t l = 0; l < mm; ++l) s += std::max(floor, pi[l]);
+        float best = -1e30f;
+        for (size_t l = 0; l < mm; ++l) best = std::max(best, logit[l] = std::log(std::max(floor, pi[l]) / s) + msg[l]);
+        float z = 0;
+        for (size_t l = 0; l < mm; ++l) z += (logit[l] = std::exp(logit[l] - best));
+        for (size_t l = 0; l < mm; ++l) out[i * mm + l] = logit[l] / z;
+      }
+  });
+  return out;
 }
 
 }  // namespace semvox

@@ -121,4 +121,15 @@ class DenseCrf {
   std::vector<Kernel> kernels_;
 };
 
+// The mean-field on a grid `factor` times coarser than the input, for views where the pixel CRF is most of
+// the cost: each factor x factor block of pixels becomes one point with the block's mean colour, mean height
+// and normalised mean normal over its pixels with depth (a non-zero normal; 0 where none has depth) and the
+// mean of its pixels' unary probabilities; the pixel scales (theta_beta, theta_p) are divided by the factor,
+// so the kernels keep their extent in the view. options.iterations - 1 updates run on the coarse grid; the
+// last update is each pixel's own: its unary plus the message its block receives from the coarse marginals.
+// So a pixel keeps its own unary's detail (the superpixel borders) while the messages, Gaussian sums over
+// tens of pixels, are taken on a quarter of the points (factor 2). factor 1 is DenseCrf::MeanField.
+Result<std::vector<float>> CoarseGridMeanField(const DenseCrfInput& input, const DenseCrfOptions& options,
+                                               const std::vector<float>& probabilities, int m, int factor);
+
 }  // namespace semvox

@@ -138,9 +138,10 @@ Result<SupportClutterView> SupportClutterClassifier::Classify(const RenderedView
   }
   if (options_.use_crf) {
     const ImageF32 height = PixelHeights(view);
-    Result<DenseCrf> crf = DenseCrf::Create({&view.rgb, &height, &view.normal}, options_.crf);
-    if (!crf.ok()) return crf.status();
-    out.probabilities = crf->MeanField(out.probabilities, kNumSupportClasses);
+    Result<std::vector<float>> q =
+        CoarseGridMeanField({&view.rgb, &height, &view.normal}, options_.crf, out.probabilities, kNumSupportClasses, options_.crf_grid_factor);
+    if (!q.ok()) return q.status();
+    out.probabilities = std::move(q).value();
   }
   out.ms_crf = MsSince(t0);
   out.labels = Image<int32_t>(w, h, 1, kOtherSurface);

@@ -36,6 +36,27 @@ nlohmann::json SupportTrainingSummary::ToJson() const {
   return j;
 }
 
+Status ValidateSupportClutter(const SupportClutterClassifier& clf, const SupportTrainingOptions& options, SupportTrainingSummary* s) {
+  double ms = 0;
+  for (uint64_t seed : options.val_seeds)
+    SEMVOX_RETURN_IF_ERROR(ForEachSupportView(seed, options.views, options.truth, [&](const SupportView& v) {
+      Result<SupportClutterView> out = clf.Classify(*v.view);
+      if (!out.ok()) return out.status();
+      ms += out->ms_superpixels + out->ms_features + out->ms_svm + out->ms_crf;
+      Image<int32_t> svm_labels(v.view->rgb.width, v.view->rgb.height, 1, kOtherSurface);
+      for (size_t i = 0; i < svm_labels.data.size(); ++i) {
+        const double* p = &out->superpixel_probabilities[size_t(out->superpixels.label.data[i]) * kNumSupportClasses];
+        svm_labels.data[i] = int32_t(std::max_element(p, p + kNumSupportClasses) - p);
+      }
+      s->svm_only.AddImages(*v.truth, svm_labels);
+      s->crf.AddImages(*v.truth, out->labels);
+      ++s->val_views;
+      return Status::Ok();
+    }));
+  s->ms_per_view = s->val_views > 0 ? ms / s->val_views : 0;
+  return Status::Ok();
+}
+
 Result<SupportClutterClassifier> TrainSupportClutter(const SupportTrainingOptions& options, SupportTrainingSummary* summary) {
   if (options.max_rows_per_class < 2)
     return Status::InvalidInput("max_rows_per_class = " + std::to_string(options.max_rows_per_class) + ". Violated constraint: >= 2");
@@ -55,23 +76,7 @@ Result<SupportClutterClassifier> TrainSupportClutter(const SupportTrainingOption
   Result<SupportClutterClassifier> clf = SupportClutterClassifier::Train(set, options.classifier, options.svm);
   if (!clf.ok()) return clf.status();
   s.support_vectors = clf->svm().num_support_vectors();
-  double ms = 0;
-  for (uint64_t seed : options.val_seeds)
-    SEMVOX_RETURN_IF_ERROR(ForEachSupportView(seed, options.views, options.truth, [&](const SupportView& v) {
-      Result<SupportClutterView> out = clf->Classify(*v.view);
-      if (!out.ok()) return out.status();
-      ms += out->ms_superpixels + out->ms_features + out->ms_svm + out->ms_crf;
-      Image<int32_t> svm_labels(v.view->rgb.width, v.view->rgb.height, 1, kOtherSurface);
-      for (size_t i = 0; i < svm_labels.data.size(); ++i) {
-        const double* p = &out->superpixel_probabilities[size_t(out->superpixels.label.data[i]) * kNumSupportClasses];
-        svm_labels.data[i] = int32_t(std::max_element(p, p + kNumSupportClasses) - p);
-      }
-      s.svm_only.AddImages(*v.truth, svm_labels);
-      s.crf.AddImages(*v.truth, out->labels);
-      ++s.val_views;
-      return Status::Ok();
-    }));
-  s.ms_per_view = s.val_views > 0 ? ms / s.val_views : 0;
+  SEMVOX_RETURN_IF_ERROR(ValidateSupportClutter(*clf, options, &s));
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (summary) *summary = std::move(s);
   return clf;

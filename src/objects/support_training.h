@@ -55,5 +55,8 @@ double ClassRecall(const ConfusionMatrix& cm, int c);
 double ClassIoU(const ConfusionMatrix& cm, int c);
 
 Result<SupportClutterClassifier> TrainSupportClutter(const SupportTrainingOptions& options, SupportTrainingSummary* summary);
+// Scores `clf` (its own options: superpixels, CRF) on the views of options.val_seeds: adds to summary's
+// svm_only and crf matrices, val_views and ms_per_view.
+Status ValidateSupportClutter(const SupportClutterClassifier& clf, const SupportTrainingOptions& options, SupportTrainingSummary* summary);
 
 }  // namespace semvox
