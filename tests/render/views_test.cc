@@ -142,7 +142,7 @@ TEST(RenderViews, DemoApartmentKeptViewsSeeItsSurface) {
   ASSERT_TRUE(map.ok()) << map.status().message();
   Result<ViewRenderer> renderer = ViewRenderer::Create(scene.value());
   ASSERT_TRUE(renderer.ok());
-  const ViewsOptions options;  // Defaults: 36 yaws of 10 degrees per viewpoint, 640x480.
+  const ViewsOptions options;  // Defaults: 36 yaws of 10 degrees per viewpoint, 320x240.
   int sink_calls = 0;
   Result<ViewSet> views = RenderViews(renderer.value(), map.value(), options,
                                       [&](const ViewRecord& r, const RenderedView& v) {
@@ -181,8 +181,8 @@ TEST(RenderViews, DemoApartmentKeptViewsSeeItsSurface) {
   EXPECT_LT(seen_free, seen / 1000) << seen_free << " of " << seen;
 
   const nlohmann::json j = nlohmann::json::parse(ViewsToJson(views.value(), options, true));
-  EXPECT_EQ(j["intrinsics"]["width"], 640);
-  EXPECT_EQ(j["intrinsics"]["height"], 480);
+  EXPECT_EQ(j["intrinsics"]["width"], options.width);
+  EXPECT_EQ(j["intrinsics"]["height"], options.height);
   EXPECT_EQ(j["views"].size(), views->views.size());
   EXPECT_EQ(j["counts"]["kept"], views->num_kept());
   const auto& first = j["views"][0];
