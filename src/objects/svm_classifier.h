@@ -43,6 +43,9 @@ class SvmClassifier {
                                      int num_classes, const SvmOptions& options);
   // p[c] = P(class c | row), c in [0, num_classes); sums to 1.
   void PredictProbabilities(const float* row, double* p) const;
+  // The same with libsvm's own kernel evaluation (the RBF kernel one support vector at a time): the
+  // reference PredictProbabilities is tested against.
+  void PredictProbabilitiesWithLibsvmKernel(const float* row, double* p) const;
 
   Status Save(const std::string& path) const;  // Atomic.
   static Result<SvmClassifier> Load(const std::string& path);
