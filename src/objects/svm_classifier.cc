@@ -234,6 +234,18 @@ void SvmClassifier::PredictProbabilities(const float* row, double* p) const {
     thread_local std::vector<svm_node> x;
     impl_->DenseRbfQuery(row, dims_, &x);
     svm_predict_probability(&impl_->precomputed, x.data(), q.data());
+  } else if (impl_->kernel == SvmKernel::kHistogramIntersection) {
+    // libsvm reads x[serial] for each support vector's serial only: one buffer per thread, indices set once,
+    // the support vectors' kernel values written per query.
+    thread_local std::vector<svm_node> x;
+    const size_t size = size_t(impl_->num_train) + 2;
+    if (x.size() != size || x[size - 1].index != -1 || x[size - 2].index != impl_->num_train) {
+      x.assign(size, svm_node{0, 0.0});
+      for (int i = 1; i <= impl_->num_train; ++i) x[size_t(i)].index = i;
+      x[size - 1] = {-1, 0.0};
+    }
+    for (const auto& [serial, r] : impl_->kernel_rows) x[size_t(serial)].value = Intersection(row, r.data(), dims_);
+    svm_predict_probability(impl_->model, x.data(), q.data());
   } else {
     const std::vector<svm_node> x = impl_->Query(row, dims_);
     svm_predict_probability(impl_->model, x.data(), q.data());
