@@ -67,7 +67,7 @@ struct SvmClassifier::Impl {
   // SV i is just its serial i + 1, so that libsvm's pairwise Platt scaling and coupling run on kernel values
   // computed here: all of a query's exp(-gamma |x - sv|^2) at once on Eigen's vectorised exp (libsvm's
   // sparse kernel took one scalar exp per support vector: a tenth of a whole run). The values agree with
-  // libsvm's own kernel to the last bits (SvmClassifier.DenseRbfKernelMatchesLibsvm).
+  // libsvm's own kernel to the last bits (SvmClassifier.FastKernelPathsMatchLibsvm).
   std::vector<double> sv_rows;
   std::vector<svm_node> serial_nodes;
   std::vector<svm_node*> serial_sv;
