@@ -65,9 +65,9 @@ struct SvmClassifier::Impl {
   bool loaded = false;
   // RBF: the support vectors as dense rows, and a shallow copy of `model` whose kernel is PRECOMPUTED and whose
   // SV i is just its serial i + 1, so that libsvm's pairwise Platt scaling and coupling run on kernel values
-  // computed here: all of a query's exp(-gamma |x - sv|^2) at once on Eigen's vectorised exp (libsvm's
-  // sparse kernel took one scalar exp per support vector: a tenth of a whole run). The values agree with
-  // libsvm's own kernel to the last bits (SvmClassifier.FastKernelPathsMatchLibsvm).
+  // computed here: all of a query's exp(-gamma |x - sv|^2) in one pass over dense rows (libsvm's sparse kernel
+  // walks two node lists per support vector). Same sums in the same order and the same exp, so the values are
+  // libsvm's own to the last bit (SvmClassifier.FastKernelPathsMatchLibsvm).
   std::vector<double> sv_rows;
   std::vector<svm_node> serial_nodes;
   std::vector<svm_node*> serial_sv;
