@@ -8,6 +8,32 @@
 #include <cmath>
 
 namespace semvox {
+namespace {
+
+// One pixel's unary: its probabilities clamped below by `floor` and renormalised into q, psi_u = -log q.
+void NegLogUnary(const float* probabilities, int m, float floor, float* unary, float* q) {
+  float s = 0;
+  for (int l = 0; l < m; ++l) s += std::max(floor, probabilities[l]);
+  for (int l = 0; l < m; ++l) {
+    const float p = std::max(floor, probabilities[l]) / s;
+    unary[l] = -std::log(p);
+    q[l] = p;
+  }
+}
+
+// One pixel's mean-field update (K&K 2011 Algorithm 1): q(l) ~ exp(-psi_u(l) + message(l)).
+void UpdatePixel(const float* unary, const float* message, int m, float* q) {
+  float best = -1e30f;
+  for (int l = 0; l < m; ++l) {
+    q[l] = -unary[l] + message[l];
+    best = std::max(best, q[l]);
+  }
+  float s = 0;
+  for (int l = 0; l < m; ++l) s += (q[l] = std::exp(q[l] - best));
+  for (int l = 0; l < m; ++l) q[l] /= s;
+}
+
+}  // namespace
 
 bool DenseCrfOptions::Check(std::string* error) const {
   auto fail = [&](const std::string& what) {
@@ -211,30 +237,13 @@ std::vector<float> DenseCrf::MeanField(const std::vector<float>& probabilities, 
   std::vector<float> unary(n * size_t(m)), q(n * size_t(m));
   const float floor = float(options_.probability_floor);
   // Initialise Q with the normalised unary (K&K Algorithm 1), psi_u = -log p.
-  for (size_t i = 0; i < n; ++i) {
-    float s = 0;
-    for (int l = 0; l < m; ++l) s += std::max(floor, probabilities[i * size_t(m) + size_t(l)]);
-    for (int l = 0; l < m; ++l) {
-      const float p = std::max(floor, probabilities[i * size_t(m) + size_t(l)]) / s;
-      unary[i * size_t(m) + size_t(l)] = -std::log(p);
-      q[i * size_t(m) + size_t(l)] = p;
-    }
-  }
+  for (size_t i = 0; i < n; ++i) NegLogUnary(&probabilities[i * size_t(m)], m, floor, &unary[i * size_t(m)], &q[i * size_t(m)]);
   std::vector<float> messages;
   for (int it = 0; it < options_.iterations; ++it) {
     Messages(q, m, brute_force, true, &messages);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
-      for (size_t i = range.begin(); i < range.end(); ++i) {
-        float* qi = &q[i * size_t(m)];
-        float best = -1e30f;
-        for (int l = 0; l < m; ++l) {
-          qi[l] = -unary[i * size_t(m) + size_t(l)] + messages[i * size_t(m) + size_t(l)];
-          best = std::max(best, qi[l]);
-        }
-        float s = 0;
-        for (int l = 0; l < m; ++l) s += (qi[l] = std::exp(qi[l] - best));
-        for (int l = 0; l < m; ++l) qi[l] /= s;
-      }
+      for (size_t i = range.begin(); i < range.end(); ++i)
+        UpdatePixel(&unary[i * size_t(m)], &messages[i * size_t(m)], m, &q[i * size_t(m)]);
     });
   }
   return q;
@@ -301,19 +310,12 @@ Result<std::vector<float>> CoarseGridMeanField(const DenseCrfInput& input, const
   std::vector<float> out(n * mm);
   const float floor = float(options.probability_floor);
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& range) {
-    std::vector<float> logit(mm);
+    std::vector<float> unary(mm);
     for (int y = range.begin(); y < range.end(); ++y)
       for (int x = 0; x < w; ++x) {
         const size_t i = size_t(y) * size_t(w) + size_t(x);
-        const float* pi = &probabilities[i * mm];
-        const float* msg = &messages[(size_t(y / factor) * size_t(cw) + size_t(x / factor)) * mm];
-        float s = 0;
-        for (size_t l = 0; l < mm; ++l) s += std::max(floor, pi[l]);
-        float best = -1e30f;
-        for (size_t l = 0; l < mm; ++l) best = std::max(best, logit[l] = std::log(std::max(floor, pi[l]) / s) + msg[l]);
-        float z = 0;
-        for (size_t l = 0; l < mm; ++l) z += (logit[l] = std::exp(logit[l] - best));
-        for (size_t l = 0; l < mm; ++l) out[i * mm + l] = logit[l] / z;
+        NegLogUnary(&probabilities[i * mm], m, floor, unary.data(), &out[i * mm]);
+        UpdatePixel(unary.data(), &messages[(size_t(y / factor) * size_t(cw) + size_t(x / factor)) * mm], m, &out[i * mm]);
       }
   });
   return out;

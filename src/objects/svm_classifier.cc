@@ -1,7 +1,6 @@
 #include "objects/svm_classifier.h"
 
 #include <svm.h>
-#include <Eigen/Core>
 #include <unistd.h>
 
 #include <algorithm>
@@ -67,7 +66,9 @@ struct SvmClassifier::Impl {
   // SV i is just its serial i + 1, so that libsvm's pairwise Platt scaling and coupling run on kernel values
   // computed here: all of a query's exp(-gamma |x - sv|^2) in one pass over dense rows (libsvm's sparse kernel
   // walks two node lists per support vector). Same sums in the same order and the same exp, so the values are
-  // libsvm's own to the last bit (SvmClassifier.FastKernelPathsMatchLibsvm).
+  // libsvm's own to the last bit (SvmClassifier.FastKernelPathsMatchLibsvm). Models over kMaxDenseDims
+  // features keep libsvm's path.
+  static constexpr int kMaxDenseDims = 64;  // The query row lives on the stack.
   std::vector<double> sv_rows;
   std::vector<svm_node> serial_nodes;
   std::vector<svm_node*> serial_sv;
@@ -79,7 +80,7 @@ struct SvmClassifier::Impl {
   // Sets up the dense RBF path from `model`; false when a support vector has a feature index outside [1, dims].
   bool PrepareDenseRbf(int dims) {
     dense_rbf = false;
-    if (kernel != SvmKernel::kRbf || !model) return true;
+    if (kernel != SvmKernel::kRbf || !model || dims > kMaxDenseDims) return true;  // Wider rows: libsvm's own path.
     const int l = model->l;
     sv_rows.assign(size_t(l) * size_t(dims), 0.0);
     serial_nodes.assign(size_t(l) * 2, svm_node{-1, 0.0});
@@ -102,13 +103,20 @@ struct SvmClassifier::Impl {
   // x[i + 1] = (i + 1, K(query, sv_i)).
   void DenseRbfQuery(const float* row, int dims, std::vector<svm_node>* x) const {
     const int l = model->l;
-    Eigen::Matrix<double, 1, Eigen::Dynamic> q(dims);
+    double q[kMaxDenseDims];
     for (int k = 0; k < dims; ++k) q[k] = (double(row[k]) - mean[size_t(k)]) * inv_std[size_t(k)];
-    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> sv(sv_rows.data(), l, dims);
-    const Eigen::ArrayXd k = (-model->param.gamma * (sv.rowwise() - q).array().square().rowwise().sum()).exp();
     x->resize(size_t(l) + 2);
     (*x)[0] = {0, 0.0};
-    for (int i = 0; i < l; ++i) (*x)[size_t(i) + 1] = {i + 1, k[i]};
+    for (int i = 0; i < l; ++i) {
+      // libsvm's RBF: the squared differences summed in feature order, then exp(-gamma sum).
+      const double* sv = &sv_rows[size_t(i) * size_t(dims)];
+      double sum = 0;
+      for (int k = 0; k < dims; ++k) {
+        const double d = q[k] - sv[k];
+        sum += d * d;
+      }
+      (*x)[size_t(i) + 1] = {i + 1, std::exp(-model->param.gamma * sum)};
+    }
     (*x)[size_t(l) + 1] = {-1, 0.0};
   }
   // libsvm nodes for one query row.
