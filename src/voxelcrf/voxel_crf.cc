@@ -530,6 +530,7 @@ Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const Vo
     const CrfEnergy energy = problem.Energy(model.w);
     rec.seconds_energy = Seconds(t_phase);
     AlphaExpansionOptions solver = options.solver;
+    solver.max_sweeps = std::min(solver.max_sweeps, options.max_sweeps);
     std::vector<CrfLabel> crf_labels;
     if (it > 0) {
       solver.initial_labelling = InitialLabelling::kGiven;

@@ -115,9 +115,12 @@ struct VoxelCrfOptions {
   // still be emptied.
   bool keep_scan_points = true;
   PlaneDetectionOptions planes;
-  // Sweeps after the first lower the Voxel-CRF energy by 1e-4 - 1e-7 of |E| on generated apartments: stop once
-  // a sweep gains less than 1e-3 of |E| (the 91 m2 flat of seed 106: the second sweep gains 2e-4, a third
-  // 3e-6 and moves 3 of 238,000 voxels, at a third of the solver's time).
+  // One alpha-expansion sweep over the labels per iteration: sweeps after the first lower the Voxel-CRF energy
+  // by 1e-4 - 1e-7 of |E| on generated apartments (the 91 m2 flat of seed 106: the first sweep 6e-2, the second
+  // 2e-4) at about half the solver's time, and the next iteration of Alg. 1 starts from these labels. Seven
+  // generated validation runs: labels as good on average (docs/speed.md, thirteenth session).
+  // min_sweep_improvement stops earlier when max_sweeps is raised.
+  int max_sweeps = 1;
   AlphaExpansionOptions solver = [] {
     AlphaExpansionOptions o;
     o.min_sweep_improvement = 1e-3;
@@ -134,6 +137,7 @@ struct VoxelCrfOptions {
                          "Alg. 1 stops once fewer than this fraction of rays change their visible voxel"),
             OptionNumber(&O::visibility_min_progress, "visibility_min_progress", 0, 1, "",
                          "Alg. 1 also stops when an iteration moves more than (1 - this) times the rays the previous one moved"),
+            OptionNumber(&O::max_sweeps, "max_sweeps", 1, 100, "", "alpha-expansion sweeps over all labels per iteration at most"),
             OptionNumber(&O::plane_truncation, "plane_truncation", 0.001, 0.5, "",
                          "Robust P^n truncation Q of plane cliques, fraction of the clique"),
             OptionNumber(&O::object_truncation, "object_truncation", 0.001, 0.5, "",

@@ -142,7 +142,7 @@ TEST(RenderViews, DemoApartmentKeptViewsSeeItsSurface) {
   ASSERT_TRUE(map.ok()) << map.status().message();
   Result<ViewRenderer> renderer = ViewRenderer::Create(scene.value());
   ASSERT_TRUE(renderer.ok());
-  const ViewsOptions options;  // Defaults: 36 yaws of 10 degrees per viewpoint, 320x240.
+  const ViewsOptions options;  // Defaults: 36 yaws of 10 degrees per viewpoint, 160x120.
   int sink_calls = 0;
   Result<ViewSet> views = RenderViews(renderer.value(), map.value(), options,
                                       [&](const ViewRecord& r, const RenderedView& v) {
