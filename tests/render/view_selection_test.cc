@@ -177,8 +177,33 @@ TEST(MeasureCandidateVisibility, DemoApartmentCoverNeedsFewViewsAndIsDeterminist
               sel.candidates, options.min_views_per_voxel, sel.coverage(), sel.surface_voxels, sel.coverable());
   EXPECT_LT(sel.chosen.size(), poses.size() / 2);
   EXPECT_GT(sel.coverable(), 0.5);
-  // The stopping rule leaves at most a few percent of what the candidates can cover.
-  EXPECT_GE(sel.coverage(), 0.9 * sel.coverable());
+  // The stopping rule: no candidate left out would meet min_gain_fraction of the total demand
+  // (sum over surface voxels of min(k, candidates that see it)).
+  const int k = options.min_views_per_voxel;
+  std::vector<int> by_candidates(surface.size(), 0), by_chosen(surface.size(), 0);
+  for (const auto& ids : seen)
+    for (uint32_t v : ids) ++by_candidates[v];
+  for (int c : sel.chosen)
+    for (uint32_t v : seen[size_t(c)]) ++by_chosen[v];
+  double demand = 0;
+  for (int n : by_candidates) demand += std::min(k, n);
+  std::vector<char> is_chosen(seen.size(), 0);
+  for (int c : sel.chosen) is_chosen[size_t(c)] = 1;
+  size_t best_gain = 0;
+  for (size_t c = 0; c < seen.size(); ++c) {
+    if (is_chosen[c]) continue;
+    size_t gain = 0;
+    for (uint32_t v : seen[c]) gain += by_chosen[v] < std::min(k, by_candidates[v]);
+    best_gain = std::max(best_gain, gain);
+  }
+  EXPECT_LT(double(best_gain), std::max(1.0, options.min_gain_fraction * demand));
+  EXPECT_GE(sel.coverage(), 0.7 * sel.coverable());
+  // A smaller stopping fraction takes more views and leaves at most a few percent of what the candidates cover.
+  ViewSelectionOptions longer = options;
+  longer.min_gain_fraction = 0.002;
+  const ViewSelection more = SelectViewsBySetCover(seen, surface.size(), longer);
+  EXPECT_GT(more.chosen.size(), sel.chosen.size());
+  EXPECT_GE(more.coverage(), 0.9 * more.coverable());
   // Deterministic: the same candidates and choice again.
   const auto again = MeasureCandidateVisibility(renderer.value(), map->grid, surface, camera, poses, render, options);
   for (size_t c = 0; c < vis.size(); ++c) EXPECT_EQ(again[c].surface_ids, vis[c].surface_ids);

@@ -216,6 +216,58 @@ TEST(VoxelCrfVisibility, FirstOccupiedVoxelAlongEachRayIsExact) {
   for (int32_t v : vis) EXPECT_EQ(v, -1);
 }
 
+TEST(VoxelCrfVisibility, RayStartsSkippingEmptyBlocksKeepEveryWalk) {
+  // ComputeRayStarts crosses blocks without nodes in one step: for rays from several cameras in all directions
+  // (grazing the walls, ending in free space, leaving the grid, from a camera outside the grid) and random
+  // labellings, the walk from each start sees exactly the node the walk from the ray's origin sees.
+  MeshBuilder b;
+  b.AddBox({-0.1, -0.1, -0.1}, {4.1, 3.1, 0.0}, Rgb8{150, 150, 150}, FaceTags{nyu40::kFloor});
+  b.AddBox({-0.1, -0.1, 2.5}, {4.1, 3.1, 2.6}, Rgb8{200, 200, 200}, FaceTags{nyu40::kCeiling});
+  b.AddBox({-0.1, -0.1, 0.0}, {0.0, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+  b.AddBox({4.0, -0.1, 0.0}, {4.1, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+  b.AddBox({-0.1, -0.1, 0.0}, {4.1, 0.0, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+  b.AddBox({-0.1, 3.0, 0.0}, {2.0, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});  // A gap to x = 4.
+  b.AddBox({1.2, 1.0, 0.0}, {2.1, 1.6, 0.7}, Rgb8{20, 200, 20}, FaceTags{nyu40::kTable});
+  const Scene scene = MeshScene(b.Take());
+  const VoxelMap map = MapOf(scene);
+  const VoxelGrid& g = map.grid;
+  const VoxelCrfNodes nodes = SelectVoxelCrfNodes(g, map.floor_z, map.ceiling_z, VoxelEvidenceOptions{});
+  VoxelEvidence ev;
+  ev.num_classes = 1;
+  for (const Eigen::Vector3f o : {Eigen::Vector3f(0.7f, 0.6f, 1.2f), Eigen::Vector3f(3.1f, 2.2f, 1.7f), Eigen::Vector3f(2.0f, 1.3f, 2.2f),
+                                  Eigen::Vector3f(9.0f, 1.0f, 1.0f)})
+    ev.origins.push_back(o);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<float> n01;
+  std::uniform_real_distribution<float> length(0.2f, 7.0f);
+  for (int k = 0; k < 6000; ++k) {
+    EvidenceRay r;
+    r.origin = k % int(ev.origins.size());
+    Eigen::Vector3f d(n01(rng), n01(rng), n01(rng));
+    if (k % 7 == 0) d.z() = 0;                     // Level rays along the grid's planes.
+    if (k % 11 == 0) d = Eigen::Vector3f(1, 0, 0);  // Along an axis.
+    r.direction = d.normalized();
+    r.max_t = length(rng);
+    ev.rays.push_back(r);
+  }
+  const std::vector<float> starts = ComputeRayStarts(g, nodes, ev);
+  size_t started = 0;
+  for (float t : starts) started += t >= 0;
+  EXPECT_GT(started, ev.rays.size() / 2);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (double keep : {1.0, 0.5, 0.05}) {
+    std::vector<int> labels(nodes.size(), 0);
+    for (size_t i = 0; i < nodes.size(); ++i)
+      labels[i] = (nodes.initial_state[i] == uint8_t(VoxelState::kOccupied) || u(rng) < 0.02) && u(rng) < keep;
+    const std::vector<int32_t> plain = ComputeVisibility(g, nodes, ev, labels);
+    const std::vector<int32_t> from_starts = ComputeVisibility(g, nodes, ev, labels, &starts);
+    size_t seen = 0, differ = 0;
+    for (size_t k = 0; k < plain.size(); ++k) seen += plain[k] >= 0, differ += plain[k] != from_starts[k];
+    EXPECT_EQ(differ, 0u) << "labels kept with probability " << keep;
+    EXPECT_GT(seen, 0u);
+  }
+}
+
 // A room whose south wall is hidden behind a cabinet standing against it: the scan has no wall there.
 struct CabinetRoom {
   Mesh mesh;
