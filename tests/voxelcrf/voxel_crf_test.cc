@@ -154,15 +154,21 @@ VoxelMap MapOf(const Scene& scene) {
   return std::move(m).value();
 }
 
+// A 4 x 3 x 2.5 m room of 0.1 m thick boxes: floor, ceiling, the west, east and south walls, and the north
+// wall from x = -0.1 to north_wall_end_x (4.1: closed).
+void AddBoxRoom(MeshBuilder* b, double north_wall_end_x) {
+  b->AddBox({-0.1, -0.1, -0.1}, {4.1, 3.1, 0.0}, Rgb8{150, 150, 150}, FaceTags{nyu40::kFloor});
+  b->AddBox({-0.1, -0.1, 2.5}, {4.1, 3.1, 2.6}, Rgb8{200, 200, 200}, FaceTags{nyu40::kCeiling});
+  b->AddBox({-0.1, -0.1, 0.0}, {0.0, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+  b->AddBox({4.0, -0.1, 0.0}, {4.1, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+  b->AddBox({-0.1, -0.1, 0.0}, {4.1, 0.0, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+  b->AddBox({-0.1, 3.0, 0.0}, {north_wall_end_x, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+}
+
 TEST(VoxelCrfVisibility, FirstOccupiedVoxelAlongEachRayIsExact) {
   // A room with a free-standing panel at x = 2.0 in front of the east wall at x = 4.0.
   MeshBuilder b;
-  b.AddBox({-0.1, -0.1, -0.1}, {4.1, 3.1, 0.0}, Rgb8{150, 150, 150}, FaceTags{nyu40::kFloor});
-  b.AddBox({-0.1, -0.1, 2.5}, {4.1, 3.1, 2.6}, Rgb8{200, 200, 200}, FaceTags{nyu40::kCeiling});
-  b.AddBox({-0.1, -0.1, 0.0}, {0.0, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
-  b.AddBox({4.0, -0.1, 0.0}, {4.1, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
-  b.AddBox({-0.1, -0.1, 0.0}, {4.1, 0.0, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
-  b.AddBox({-0.1, 3.0, 0.0}, {4.1, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
+  AddBoxRoom(&b, 4.1);
   b.AddQuad({2.0, 1.0, 0.5}, {2.0, 2.0, 0.5}, {2.0, 2.0, 2.0}, {2.0, 1.0, 2.0}, Rgb8{20, 200, 20}, FaceTags{nyu40::kPicture});
   const Scene scene = MeshScene(b.Take());
   const VoxelMap map = MapOf(scene);
@@ -221,12 +227,7 @@ TEST(VoxelCrfVisibility, RayStartsSkippingEmptyBlocksKeepEveryWalk) {
   // (grazing the walls, ending in free space, leaving the grid, from a camera outside the grid) and random
   // labellings, the walk from each start sees exactly the node the walk from the ray's origin sees.
   MeshBuilder b;
-  b.AddBox({-0.1, -0.1, -0.1}, {4.1, 3.1, 0.0}, Rgb8{150, 150, 150}, FaceTags{nyu40::kFloor});
-  b.AddBox({-0.1, -0.1, 2.5}, {4.1, 3.1, 2.6}, Rgb8{200, 200, 200}, FaceTags{nyu40::kCeiling});
-  b.AddBox({-0.1, -0.1, 0.0}, {0.0, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
-  b.AddBox({4.0, -0.1, 0.0}, {4.1, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
-  b.AddBox({-0.1, -0.1, 0.0}, {4.1, 0.0, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});
-  b.AddBox({-0.1, 3.0, 0.0}, {2.0, 3.1, 2.5}, Rgb8{180, 90, 90}, FaceTags{nyu40::kWall});  // A gap to x = 4.
+  AddBoxRoom(&b, 2.0);  // A gap in the north wall from x = 2 to 4.
   b.AddBox({1.2, 1.0, 0.0}, {2.1, 1.6, 0.7}, Rgb8{20, 200, 20}, FaceTags{nyu40::kTable});
   const Scene scene = MeshScene(b.Take());
   const VoxelMap map = MapOf(scene);
@@ -234,9 +235,8 @@ TEST(VoxelCrfVisibility, RayStartsSkippingEmptyBlocksKeepEveryWalk) {
   const VoxelCrfNodes nodes = SelectVoxelCrfNodes(g, map.floor_z, map.ceiling_z, VoxelEvidenceOptions{});
   VoxelEvidence ev;
   ev.num_classes = 1;
-  for (const Eigen::Vector3f o : {Eigen::Vector3f(0.7f, 0.6f, 1.2f), Eigen::Vector3f(3.1f, 2.2f, 1.7f), Eigen::Vector3f(2.0f, 1.3f, 2.2f),
-                                  Eigen::Vector3f(9.0f, 1.0f, 1.0f)})
-    ev.origins.push_back(o);
+  ev.origins = {Eigen::Vector3f(0.7f, 0.6f, 1.2f), Eigen::Vector3f(3.1f, 2.2f, 1.7f), Eigen::Vector3f(2.0f, 1.3f, 2.2f),
+                Eigen::Vector3f(9.0f, 1.0f, 1.0f)};  // The last outside the grid.
   std::mt19937_64 rng(7);
   std::normal_distribution<float> n01;
   std::uniform_real_distribution<float> length(0.2f, 7.0f);
