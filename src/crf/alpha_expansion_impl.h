@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -77,15 +78,21 @@ inline double ExpansionEnergyChange(const CrfEnergy& energy, const NodeIncidence
   return delta;
 }
 
+// `movable` (optional, one flag per node): nodes flagged 0 keep their labels; the moves are then built over
+// the edges that touch a movable node only (see MinimizeWithAlphaExpansion).
 template <typename Graph>
 Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& options, Graph& graph,
-                         std::vector<CrfLabel>* labels_out, CrfSolverSummary* summary) {
+                         std::vector<CrfLabel>* labels_out, CrfSolverSummary* summary,
+                         const std::vector<uint8_t>* movable = nullptr) {
   using Clock = std::chrono::steady_clock;
   const auto t_start = Clock::now();
   std::string error;
   if (!options.Check(&error)) return Status::InvalidInput("AlphaExpansionOptions: " + error);
   if (!energy.Check(&error)) return Status::InvalidInput("CrfEnergy: " + error);
   SEMVOX_RETURN_IF_ERROR(InitializeLabels(energy, options.initial_labelling, labels_out));
+  if (movable && movable->size() != size_t(energy.num_nodes()))
+    return Status::InvalidInput("alpha-expansion: " + std::to_string(movable->size()) + " movable flags for " +
+                                std::to_string(energy.num_nodes()) + " nodes");
   std::vector<CrfLabel>& labels = *labels_out;
   *summary = CrfSolverSummary();
   summary->solver = "alpha-expansion";
@@ -96,16 +103,36 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
   const auto& edges = energy.edges();
   const int num_pairwise = static_cast<int>(edges.size());
 
-  // Fixed topology: CRF nodes 0..N-1, then per clique z = N + 2c and y = N + 2c + 1; edges in CRF order,
-  // then per clique and member k the arcs (member -> z) and (y -> member).
+  // With `movable`: the edges that touch a movable node (the graph holds these only, as its edges 0, 1, ...,
+  // and the moves are built over them), and the cost of the others, which no move changes (both ends keep
+  // their labels throughout).
+  std::vector<int> active_edges;
+  double fixed_pairwise = 0;
+  if (movable) {
+    const uint8_t* const m = movable->data();
+    for (int e = 0; e < num_pairwise; ++e) {
+      const CrfEnergy::Edge& edge = edges[e];
+      if (m[edge.i] || m[edge.j])
+        active_edges.push_back(e);
+      else
+        fixed_pairwise += energy.EdgeCost(edge, labels[edge.i], labels[edge.j]);
+    }
+  }
+  const int* const edge_ids = movable ? active_edges.data() : nullptr;
+  const int num_move_edges = movable ? int(active_edges.size()) : num_pairwise;
+  // Fixed topology: CRF nodes 0..N-1, then per clique z = N + 2c and y = N + 2c + 1; the move's edges in CRF
+  // order (graph edge k = the k-th of them), then per clique and member k the arcs (member -> z) and (y -> member).
   graph.AddNodes(N + 2 * C);
   size_t clique_members = 0;
   for (int c = 0; c < C; ++c) clique_members += energy.clique_nodes(c).size();
-  const size_t num_graph_edges = edges.size() + 2 * clique_members;
+  const size_t num_graph_edges = size_t(num_move_edges) + 2 * clique_members;
   if constexpr (requires { graph.ReserveEdges(size_t{0}); }) graph.ReserveEdges(num_graph_edges);
-  for (const CrfEnergy::Edge& e : edges) graph.AddEdge(e.i, e.j, 0, 0);
+  for (int k = 0; k < num_move_edges; ++k) {
+    const CrfEnergy::Edge& e = edges[edge_ids ? edge_ids[k] : k];
+    graph.AddEdge(e.i, e.j, 0, 0);
+  }
   std::vector<int> clique_first_edge(C);
-  for (int c = 0, next_edge = num_pairwise; c < C; ++c) {
+  for (int c = 0, next_edge = num_move_edges; c < C; ++c) {
     const int z = N + 2 * c, y = z + 1;
     clique_first_edge[c] = next_edge;
     for (int v : energy.clique_nodes(c)) {
@@ -142,8 +169,13 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
   // can change when it switches, whatever the other nodes do: sum over its edges of w * (max V - min V)
   // of the edge's model, plus per clique max_l theta_l * w_i (Robust P^n changes by at most that when
   // one node of weight w_i changes label). A node whose unary difference exceeds it is decided.
+  // Nodes that may not move are decided "keep" in every move, through the same per-node states.
   std::vector<double> decide_bound;
   std::vector<uint8_t> decided;
+  if (movable && !options.prune_decided_nodes) {
+    decide_bound.assign(N, std::numeric_limits<double>::infinity());
+    decided.assign(N, kMoveFree);
+  }
   if (options.prune_decided_nodes) {
     decide_bound.assign(N, 0.0);
     decided.assign(N, kMoveFree);
@@ -172,6 +204,18 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
     // Keep the test strict under rounding of the sums above.
     for (double& b : decide_bound) b = b * (1 + 1e-12) + 1e-300;
   }
+  // ... and the movable nodes (the per-node passes of a move visit these only; the others stay decided "keep",
+  // with terminal capacity 0 and whatever their delta entries hold, which no one reads).
+  std::vector<int> move_nodes;
+  if (movable) {
+    for (int i = 0; i < N; ++i)
+      if ((*movable)[i])
+        move_nodes.push_back(i);
+      else
+        decided[i] = kMoveKeep;
+  }
+  const int* const node_ids = movable ? move_nodes.data() : nullptr;
+  const int num_move_nodes = movable ? int(move_nodes.size()) : N;
 
   double current = energy.Evaluate(labels);
   summary->initial_energy = current;
@@ -202,15 +246,16 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       double constant = current_unary_sum;
       int64_t truncated = 0;
       int64_t pruned = 0;
-      const bool prune = options.prune_decided_nodes;
+      const bool prune = options.prune_decided_nodes || movable != nullptr;
       {
         // Unary part, and (pruning) the nodes whose move their unary decides: switching costs more than
         // all their pairwise and clique terms could pay back (keep in every optimal move), or gains more
         // than they could charge (switch in every optimal move). Strict dominance, exact.
         const float* plane = energy.unary_plane(alpha).data();
-        auto unary_range = [&](int begin, int end) {
+        auto unary_range = [&](int begin, int end) {  // Positions in the move's node list.
           int64_t range_pruned = 0;
-          for (int i = begin; i < end; ++i) {
+          for (int p = begin; p < end; ++p) {
+            const int i = node_ids ? node_ids[p] : p;
             if (labels[i] == alpha) {
               delta[i] = 0.0;
               if (prune) decided[i] = kMoveAtAlpha;
@@ -230,11 +275,12 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
         if (concurrent_edges) {
           std::array<int64_t, kEdgeChunks> chunk_pruned{};
           tbb::parallel_for(0, kEdgeChunks, [&](int k) {
-            chunk_pruned[size_t(k)] = unary_range(int(int64_t(N) * k / kEdgeChunks), int(int64_t(N) * (k + 1) / kEdgeChunks));
+            chunk_pruned[size_t(k)] =
+                unary_range(int(int64_t(num_move_nodes) * k / kEdgeChunks), int(int64_t(num_move_nodes) * (k + 1) / kEdgeChunks));
           });
           for (int64_t p : chunk_pruned) pruned += p;
         } else {
-          pruned = unary_range(0, N);
+          pruned = unary_range(0, num_move_nodes);
         }
       }
       std::fill(delta.begin() + N, delta.end(), 0.0);
@@ -265,13 +311,15 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
           d[tail] -= (tail_free && head_switch) ? cap : 0.0;
           *pc += ((tail_keep || tail_free) && head_switch) ? cap : 0.0;
         };
-        auto edge_range = [&](int e_begin, int e_end, double* const d, double* constant_out, int64_t* truncated_out) {
+        // Positions [k_begin, k_end) of the move's edge list: every edge, or (with `movable`) edge_ids.
+        auto edge_range = [&](int k_begin, int k_end, double* const d, double* constant_out, int64_t* truncated_out) {
           double pairwise_constant = 0;  // Local accumulator (kept in a register across graph calls).
           int64_t range_truncated = 0;
-          auto arc = [&](int e, int tail, int head, double cap, uint8_t ft, uint8_t fh) {
-            arc_into(d, &pairwise_constant, e, tail, head, cap, ft, fh);
+          auto arc = [&](int g, int tail, int head, double cap, uint8_t ft, uint8_t fh) {  // g: graph edge.
+            arc_into(d, &pairwise_constant, g, tail, head, cap, ft, fh);
           };
-          for (int e = e_begin; e < e_end; ++e) {
+          for (int k = k_begin; k < k_end; ++k) {
+            const int e = edge_ids ? edge_ids[k] : k;
             const CrfEnergy::Edge& edge = edges[e];
             const CrfLabel li = x[edge.i], lj = x[edge.j];
             const bool fi = li == alpha, fj = lj == alpha;  // Fixed at alpha.
@@ -283,14 +331,14 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
                   pairwise_constant += w;
                   d[fi ? edge.j : edge.i] -= w;
                 }
-                set_edge(e, 0.0);
+                set_edge(k, 0.0);
               } else {
                 // A = w [li != lj], B = C = w, D = 0: E = A + (w - A) t_i - w t_j + (2w - A) (1 - t_i) t_j.
                 const double A = li != lj ? w : 0.0;
                 pairwise_constant += A;
                 d[edge.i] += w - A;
                 d[edge.j] -= w;
-                arc(e, edge.i, edge.j, 2 * w - A, state(edge.i), state(edge.j));
+                arc(k, edge.i, edge.j, 2 * w - A, state(edge.i), state(edge.j));
               }
               continue;
             }
@@ -307,7 +355,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
                 pairwise_constant += A;
                 d[edge.j] += D - A;
               }
-              set_edge(e, 0.0);
+              set_edge(k, 0.0);
             } else {
               const double A = energy.EdgeCost(edge, li, lj);
               const double B = energy.EdgeCost(edge, li, alpha);
@@ -320,20 +368,24 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
               pairwise_constant += A;
               d[edge.i] += Cc - A;
               d[edge.j] += D - Cc;
-              arc(e, edge.i, edge.j, cap, state(edge.i), state(edge.j));
+              arc(k, edge.i, edge.j, cap, state(edge.i), state(edge.j));
             }
           }
           *constant_out = pairwise_constant;
           *truncated_out = range_truncated;
         };
-        double pairwise_constant = 0;
+        double pairwise_constant = fixed_pairwise;
         if (concurrent_edges) {
           std::array<double, kEdgeChunks> chunk_constant{};
           std::array<int64_t, kEdgeChunks> chunk_truncated{};
           tbb::parallel_for(0, kEdgeChunks, [&](int k) {
-            const int e_begin = int(int64_t(num_pairwise) * k / kEdgeChunks), e_end = int(int64_t(num_pairwise) * (k + 1) / kEdgeChunks);
+            const int e_begin = int(int64_t(num_move_edges) * k / kEdgeChunks), e_end = int(int64_t(num_move_edges) * (k + 1) / kEdgeChunks);
             double* d = k == 0 ? delta.data() : chunk_delta[size_t(k - 1)].data();
-            if (k > 0) std::fill(chunk_delta[size_t(k - 1)].begin(), chunk_delta[size_t(k - 1)].end(), 0.0);
+            if (k > 0 && node_ids) {
+              for (int p = 0; p < num_move_nodes; ++p) chunk_delta[size_t(k - 1)][size_t(node_ids[p])] = 0.0;
+            } else if (k > 0) {
+              std::fill(chunk_delta[size_t(k - 1)].begin(), chunk_delta[size_t(k - 1)].end(), 0.0);
+            }
             edge_range(e_begin, e_end, d, &chunk_constant[size_t(k)], &chunk_truncated[size_t(k)]);
           });
           for (int k = 0; k < kEdgeChunks; ++k) {
@@ -342,14 +394,21 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
           }
           // Node by node, the ranges in order (the same sums), in fixed node ranges on both cores.
           tbb::parallel_for(0, kEdgeChunks, [&](int part) {
-            const int i_begin = int(int64_t(N) * part / kEdgeChunks), i_end = int(int64_t(N) * (part + 1) / kEdgeChunks);
+            const int p_begin = int(int64_t(num_move_nodes) * part / kEdgeChunks);
+            const int p_end = int(int64_t(num_move_nodes) * (part + 1) / kEdgeChunks);
             for (int k = 1; k < kEdgeChunks; ++k) {
               const double* src = chunk_delta[size_t(k - 1)].data();
-              for (int i = i_begin; i < i_end; ++i) delta[i] += src[i];
+              if (node_ids) {
+                for (int p = p_begin; p < p_end; ++p) delta[node_ids[p]] += src[node_ids[p]];
+              } else {
+                for (int i = p_begin; i < p_end; ++i) delta[i] += src[i];
+              }
             }
           });
         } else {
-          edge_range(0, num_pairwise, delta.data(), &pairwise_constant, &truncated);
+          double range_constant = 0;
+          edge_range(0, num_move_edges, delta.data(), &range_constant, &truncated);
+          pairwise_constant += range_constant;
         }
         // Clique arcs, after the edges: per member k, member -> z (capacity alpha_slope w_k when x_k != alpha)
         // and y -> member (dominant_slope w_k when x_k is the dominant label), folded as arc_into folds them.
@@ -406,8 +465,10 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
         // Distinct nodes in kEdgeChunks fixed ranges (concurrently when the graph allows concurrent updates of
         // distinct edges, which covers its nodes' terminal capacities); the constants are summed per range and
         // added in range order (they only check the cut's prediction below).
+        // Positions: the move's nodes, then the cliques' auxiliary nodes.
         auto terminal_range = [&](int begin, int end, double* switched, double* negative) {
-          for (int v = begin; v < end; ++v) {
+          for (int p = begin; p < end; ++p) {
+            const int v = p < num_move_nodes ? (node_ids ? node_ids[p] : p) : N + (p - num_move_nodes);
             double d = delta[v];
             if (prune && v < N && decided[v] != kMoveFree) {
               if (decided[v] == kMoveSwitch) *switched += d;
@@ -417,7 +478,7 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
             *negative += d < 0 ? d : 0.0;
           }
         };
-        const int V = N + 2 * C;
+        const int V = num_move_nodes + 2 * C;
         std::array<double, kEdgeChunks> switched{}, negative{};
         if (concurrent_edges) {
           tbb::parallel_for(0, kEdgeChunks, [&](int k) {
@@ -438,8 +499,9 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
       summary->num_truncated_terms += truncated;
 
       changed_nodes.clear();
-      auto scan_range = [&](int begin, int end, std::vector<int>* out) {
-        for (int i = begin; i < end; ++i) {
+      auto scan_range = [&](int begin, int end, std::vector<int>* out) {  // Positions in the move's node list.
+        for (int p = begin; p < end; ++p) {
+          const int i = node_ids ? node_ids[p] : p;
           const bool switches = prune ? decided[i] == kMoveSwitch || (decided[i] == kMoveFree && graph.InSinkSegment(i))
                                       : labels[i] != alpha && graph.InSinkSegment(i);
           if (switches) {
@@ -452,11 +514,11 @@ Status RunAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& o
         tbb::parallel_for(0, kEdgeChunks, [&](int k) {
           std::vector<int>* out = k == 0 ? &changed_nodes : &chunk_changed[size_t(k - 1)];
           out->clear();
-          scan_range(int(int64_t(N) * k / kEdgeChunks), int(int64_t(N) * (k + 1) / kEdgeChunks), out);
+          scan_range(int(int64_t(num_move_nodes) * k / kEdgeChunks), int(int64_t(num_move_nodes) * (k + 1) / kEdgeChunks), out);
         });
         for (const std::vector<int>& more : chunk_changed) changed_nodes.insert(changed_nodes.end(), more.begin(), more.end());
       } else {
-        scan_range(0, N, &changed_nodes);
+        scan_range(0, num_move_nodes, &changed_nodes);
       }
       const double change = ExpansionEnergyChange(energy, edge_incidence, clique_incidence, labels, current_unary, changed_nodes,
                                                   changed, alpha, &clique_stamp, stamp++, &old_weight, &new_weight);

@@ -85,9 +85,13 @@ struct CrfSolverSummary {
 };
 
 // Minimises `energy` by alpha-expansion. On kGiven, *labels is the start. Returns InvalidInput for bad
-// options, an energy that fails CrfEnergy::Check, or bad given labels.
+// options, an energy that fails CrfEnergy::Check, bad given labels, or `movable` of the wrong size.
+// With `movable` (one flag per node), only the flagged nodes may change label: the result minimises the
+// energy over those with the others fixed, and each move is built over the edges that touch a flagged node
+// (a local re-solve after a local change of the energy costs about the size of the change).
 Status MinimizeWithAlphaExpansion(const CrfEnergy& energy, const AlphaExpansionOptions& options,
-                                  std::vector<CrfLabel>* labels, CrfSolverSummary* summary);
+                                  std::vector<CrfLabel>* labels, CrfSolverSummary* summary,
+                                  const std::vector<uint8_t>* movable = nullptr);
 
 // Iterated conditional modes (Besag 1986): visit nodes in order, give each its best label with the others
 // fixed (unary + incident edges + its cliques), until a sweep changes nothing. Monotone, weak.

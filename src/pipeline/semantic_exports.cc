@@ -74,7 +74,7 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
   nlohmann::ordered_json its = nlohmann::ordered_json::array();
   for (const auto& it : labels.crf.iterations)
     its.push_back({{"energy_initial", it.energy_initial}, {"energy_final", it.energy_final}, {"energy_per_sweep", it.energy_per_sweep},
-                   {"sweeps", it.sweeps}, {"edges", it.edges}, {"cliques", it.cliques}, {"changed_labels", it.changed_labels},
+                   {"sweeps", it.sweeps}, {"edges", it.edges}, {"cliques", it.cliques}, {"movable_nodes", it.movable_nodes}, {"changed_labels", it.changed_labels},
                    {"changed_visibility", it.changed_visibility}, {"seconds", it.seconds},
                    {"phase_seconds", {{"build", it.seconds_build}, {"energy", it.seconds_energy}, {"alpha_expansion", it.seconds_expansion},
                                       {"max_flow", it.seconds_max_flow}, {"visibility", it.seconds_visibility}}}});

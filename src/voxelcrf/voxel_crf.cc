@@ -8,6 +8,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -551,6 +552,70 @@ std::array<double, kNumVoxelCrfWeights> VoxelCrfProblem::Features(const std::vec
 }
 
 // ---------------------------------------------------------------------------------------------------------
+// Local re-solves.
+
+namespace {
+inline uint64_t Mix(uint64_t h, uint64_t v) {  // splitmix64 of h ^ v, then a rotation: order matters.
+  uint64_t z = h ^ (v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2));
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+inline uint64_t FloatBits(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+}  // namespace
+
+std::vector<uint64_t> NodeFingerprints(const VoxelCrfProblem& p) {
+  const size_t N = size_t(p.num_nodes), K = size_t(std::max(0, p.num_labels - 1));
+  std::vector<uint64_t> fp(N, 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, N, 8192), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      uint64_t h = Mix(0, p.state[i]);
+      h = Mix(h, p.keep_occupied.empty() ? 2u : p.keep_occupied[i]);
+      h = Mix(h, FloatBits(p.f_depth_empty[i]) | FloatBits(p.f_density_empty[i]) << 32);
+      h = Mix(h, FloatBits(p.f_depth_occ[i]) | FloatBits(p.f_density_occ[i]) << 32);
+      for (size_t k = 0; k < K; ++k) {
+        h = Mix(h, FloatBits(p.f_appearance[i * K + k]) | FloatBits(p.f_layout[i * K + k]) << 32);
+        if (!p.f_segment.empty()) h = Mix(h, FloatBits(p.f_segment[i * K + k]));
+      }
+      fp[i] = h;
+    }
+  });
+  // Edges and cliques: a sum over them (their order in the lists does not matter).
+  std::vector<uint64_t> sum(N, 0);
+  for (const VoxelCrfProblem::Edge& e : p.edges) {
+    sum[size_t(e.i)] += Mix(Mix(1, uint64_t(e.j)), uint64_t(e.type));
+    sum[size_t(e.j)] += Mix(Mix(1, uint64_t(e.i)), uint64_t(e.type));
+  }
+  for (const VoxelCrfProblem::Clique& c : p.cliques) {
+    uint64_t h = Mix(Mix(2, uint64_t(c.type)), FloatBits(c.q));
+    for (int v : c.nodes) h = Mix(h, uint64_t(v));
+    for (int v : c.nodes) sum[size_t(v)] += h;
+  }
+  for (size_t i = 0; i < N; ++i) fp[i] = Mix(fp[i], sum[i]);
+  return fp;
+}
+
+std::vector<uint8_t> ChangedNodes(const VoxelCrfProblem& problem, const std::vector<uint64_t>& before,
+                                  const std::vector<uint64_t>& after, int rings) {
+  const size_t N = after.size();
+  std::vector<uint8_t> changed(N, 1);
+  if (before.size() != N) return changed;
+  for (size_t i = 0; i < N; ++i) changed[i] = before[i] != after[i];
+  std::vector<uint8_t> next;
+  for (int ring = 0; ring < rings; ++ring) {
+    next = changed;
+    for (const VoxelCrfProblem::Edge& e : problem.edges)
+      if (changed[size_t(e.i)] || changed[size_t(e.j)]) next[size_t(e.i)] = next[size_t(e.j)] = 1;
+    changed.swap(next);
+  }
+  return changed;
+}
+
+// ---------------------------------------------------------------------------------------------------------
 // Alg. 1.
 
 Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev, double floor_z,
@@ -576,6 +641,7 @@ Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const Vo
   result->seconds_ray_starts = Seconds(t_phase);
   std::vector<int> previous;
   VoxelCrfProblem problem;
+  std::vector<uint64_t> fingerprints;  // Of the previous iteration's problem (local re-solves).
   for (int it = 0; it < options.max_iterations; ++it) {
     const auto t0 = Clock::now();
     VoxelCrfIteration rec;
@@ -584,6 +650,14 @@ Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const Vo
     t_phase = Clock::now();
     const CrfEnergy energy = problem.Energy(model.w);
     rec.seconds_energy = Seconds(t_phase);
+    // After the first iteration: re-solve where the new visibility changed the problem (reiterate_rings).
+    std::vector<uint8_t> movable;
+    if (options.reiterate_rings >= 0 && options.max_iterations > 1) {
+      std::vector<uint64_t> now = NodeFingerprints(problem);
+      if (it > 0) movable = ChangedNodes(problem, fingerprints, now, options.reiterate_rings);
+      fingerprints = std::move(now);
+    }
+    rec.movable_nodes = movable.empty() ? n : int64_t(std::count(movable.begin(), movable.end(), uint8_t(1)));
     AlphaExpansionOptions solver = options.solver;
     solver.max_sweeps = std::min(solver.max_sweeps, options.max_sweeps);
     std::vector<CrfLabel> crf_labels;
@@ -593,7 +667,7 @@ Status SolveVoxelCrf(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const Vo
     }
     CrfSolverSummary summary;
     t_phase = Clock::now();
-    SEMVOX_RETURN_IF_ERROR(MinimizeWithAlphaExpansion(energy, solver, &crf_labels, &summary));
+    SEMVOX_RETURN_IF_ERROR(MinimizeWithAlphaExpansion(energy, solver, &crf_labels, &summary, movable.empty() ? nullptr : &movable));
     rec.seconds_expansion = Seconds(t_phase);
     rec.seconds_max_flow = summary.max_flow_seconds;
     labels.assign(crf_labels.begin(), crf_labels.end());

@@ -121,6 +121,10 @@ struct VoxelCrfOptions {
   // generated validation runs: labels as good on average (docs/speed.md, thirteenth session).
   // min_sweep_improvement stops earlier when max_sweeps is raised.
   int max_sweeps = 1;
+  // Iterations after the first re-solve only the nodes whose terms changed with the visibility (unary
+  // features, incident edges, cliques) and the nodes within reiterate_rings CRF edges of them; the others keep
+  // their labels (-1: every node, a full re-solve).
+  int reiterate_rings = 2;
   AlphaExpansionOptions solver = [] {
     AlphaExpansionOptions o;
     o.min_sweep_improvement = 1e-3;
@@ -138,6 +142,9 @@ struct VoxelCrfOptions {
             OptionNumber(&O::visibility_min_progress, "visibility_min_progress", 0, 1, "",
                          "Alg. 1 also stops when an iteration moves more than (1 - this) times the rays the previous one moved"),
             OptionNumber(&O::max_sweeps, "max_sweeps", 1, 100, "", "alpha-expansion sweeps over all labels per iteration at most"),
+            OptionNumber(&O::reiterate_rings, "reiterate_rings", -1, 1000, "",
+                         "iterations after the first re-solve only the voxels whose terms the new visibility changed "
+                         "and those within this many CRF edges of them (-1: every voxel)"),
             OptionNumber(&O::plane_truncation, "plane_truncation", 0.001, 0.5, "",
                          "Robust P^n truncation Q of plane cliques, fraction of the clique"),
             OptionNumber(&O::object_truncation, "object_truncation", 0.001, 0.5, "",
@@ -196,6 +203,15 @@ std::vector<int32_t> ComputeVisibility(const VoxelGrid& grid, const VoxelCrfNode
 // the labels.
 std::vector<float> ComputeRayStarts(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev);
 
+// Per node, a 64-bit fingerprint of every term of the problem that involves it: its unary features and map
+// state, its edges (other end and type) and its cliques (members, truncation and type). Two problems over
+// the same nodes give a node the same fingerprint when its terms are the same (up to hash collisions).
+std::vector<uint64_t> NodeFingerprints(const VoxelCrfProblem& problem);
+
+// The nodes whose fingerprints differ, and those within `rings` edges of them (over `problem`'s edges).
+std::vector<uint8_t> ChangedNodes(const VoxelCrfProblem& problem, const std::vector<uint64_t>& before,
+                                  const std::vector<uint64_t>& after, int rings);
+
 // Builds the problem for the visibility `visible_node_of_ray`.
 VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes& nodes, const VoxelEvidence& ev,
                                      double floor_z, double ceiling_z, const VoxelCrfModel& model,
@@ -207,6 +223,7 @@ struct VoxelCrfIteration {
   std::vector<double> energy_per_sweep;
   int sweeps = 0;
   int64_t changed_labels = 0;   // Against the previous iteration.
+  int64_t movable_nodes = 0;    // Nodes the iteration's solve could relabel (all of them in the first).
   int64_t visible_nodes = 0;
   int64_t changed_visibility = 0;  // Rays whose visible node changed after this iteration.
   size_t edges = 0, cliques = 0;

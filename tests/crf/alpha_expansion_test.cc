@@ -2,6 +2,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "crf/alpha_expansion_impl.h"
@@ -391,6 +392,84 @@ TEST(AlphaExpansion, ParallelMovesWithManyCliquesEqualTheSerialMoves) {
   EXPECT_EQ(ss.num_pruned_nodes, sp.num_pruned_nodes);
   EXPECT_GT(sp.num_moves, 0);
   ExpectMonotone(sp, "cliques");
+}
+
+// A local re-solve: with `movable`, the unflagged nodes keep their labels, and the moves are those of the
+// same energy in which every unflagged node's other labels cost 1e6 more (pruning then decides them "keep"):
+// same labels, same energy after every expansion; on the parallel moves and on the serial ones.
+TEST(AlphaExpansion, MovableNodesMoveAsIfTheOthersWereFixedByTheirUnaries) {
+  const int w = 200, h = 180, L = 6, n = w * h;
+  CrfEnergy energy(n, L);
+  std::mt19937_64 rng(71);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int truth = (x / 30 + y / 20) % L;
+      for (int l = 0; l < L; ++l) energy.SetUnary(y * w + x, l, (l == truth ? 0.0f : 0.5f) + unit(rng));
+      if (x + 1 < w) energy.AddEdge(y * w + x, y * w + x + 1, 0.35f);
+      if (y + 1 < h) energy.AddEdge(y * w + x, (y + 1) * w + x, 0.35f);
+    }
+  for (int y0 = 0; y0 + 16 <= h; y0 += 16)
+    for (int x0 = 0; x0 + 16 <= w; x0 += 24) {
+      std::vector<int> members;
+      for (int y = y0; y < y0 + 16; ++y)
+        for (int x = x0; x < x0 + 16; ++x) members.push_back(y * w + x);
+      RobustPnParams p;
+      p.gamma_max = 3;
+      p.truncation_q = 50;
+      energy.AddRobustPnClique(members, p);
+    }
+  ASSERT_GE(energy.edges().size(), size_t(1) << 15);  // The parallel moves.
+  // A start: one sweep of the plain solver. Then a local change of the unaries (a disc whose truth is label
+  // 0), and the nodes within 6 pixels of it may move.
+  AlphaExpansionOptions options;
+  options.max_sweeps = 1;
+  std::vector<CrfLabel> start;
+  CrfSolverSummary s0;
+  ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, options, &start, &s0).ok());
+  std::vector<uint8_t> movable(size_t(n), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double r = std::hypot(x - 70.0, y - 90.0);
+      if (r < 25)
+        for (int l = 0; l < L; ++l) energy.SetUnary(y * w + x, l, (l == 0 ? 0.0f : 0.9f) + unit(rng));
+      movable[size_t(y * w + x)] = r < 31;
+    }
+  CrfEnergy fixed = energy;
+  for (int i = 0; i < n; ++i)
+    if (!movable[size_t(i)])
+      for (int l = 0; l < L; ++l)
+        if (l != start[size_t(i)]) fixed.SetUnary(i, l, energy.unary(i, l) + 1e6f);
+  options.initial_labelling = InitialLabelling::kGiven;
+  options.max_sweeps = 100;
+  std::vector<CrfLabel> local = start, reference = start, serial = start;
+  CrfSolverSummary sl, sr, ss;
+  ASSERT_TRUE(MinimizeWithAlphaExpansion(energy, options, &local, &sl, &movable).ok());
+  ASSERT_TRUE(MinimizeWithAlphaExpansion(fixed, options, &reference, &sr).ok());
+  SerialMovesGraph serial_graph;
+  ASSERT_TRUE(crf_internal::RunAlphaExpansion(energy, options, serial_graph, &serial, &ss, &movable).ok());
+  EXPECT_EQ(local, reference);
+  EXPECT_EQ(local, serial);
+  ASSERT_EQ(sl.energy_per_expansion.size(), sr.energy_per_expansion.size());
+  for (size_t k = 0; k < sl.energy_per_expansion.size(); ++k)
+    EXPECT_NEAR(sl.energy_per_expansion[k], sr.energy_per_expansion[k], 1e-9 * std::abs(sr.energy_per_expansion[k])) << k;
+  EXPECT_EQ(sl.energy_per_expansion, ss.energy_per_expansion);
+  ExpectMonotone(sl, "movable");
+  int moved = 0;
+  for (int i = 0; i < n; ++i) {
+    if (!movable[size_t(i)]) {
+      ASSERT_EQ(local[size_t(i)], start[size_t(i)]) << "node " << i << " is not movable";
+    }
+    moved += local[size_t(i)] != start[size_t(i)];
+  }
+  EXPECT_GT(moved, 500);  // The disc (about 1,960 nodes) did move to label 0 for the most part.
+  EXPECT_LT(sl.final_energy, sl.initial_energy);
+  // A flag vector of the wrong size is an input error.
+  std::vector<uint8_t> short_flags(size_t(n - 1), 1);
+  std::vector<CrfLabel> x = start;
+  const Status st = MinimizeWithAlphaExpansion(energy, options, &x, &sl, &short_flags);
+  EXPECT_EQ(st.code(), StatusCode::kInvalidInput);
+  EXPECT_NE(st.message().find("movable"), std::string::npos) << st.message();
 }
 
 // min_sweep_improvement stops after the first sweep that gains less than that fraction of |E|; the moves

@@ -75,6 +75,47 @@ TEST(VoxelCrfProblem, EnergyIsTheDotProductOfWeightsAndFeatures) {
   }
 }
 
+// The local re-solve's change detection: a node whose unary features, edges or cliques change is flagged,
+// with its neighbours out to `rings` edges; nothing else is.
+TEST(VoxelCrfProblem, ChangedNodesFollowEveryKindOfTermAndTheRings) {
+  std::mt19937_64 rng(5);
+  const int n = 12, K = 3;
+  const VoxelCrfProblem p = RandomProblem(n, K, &rng);
+  const std::vector<uint64_t> before = NodeFingerprints(p);
+  auto flagged = [&](const VoxelCrfProblem& q, int rings) {
+    const std::vector<uint8_t> c = ChangedNodes(q, before, NodeFingerprints(q), rings);
+    std::vector<int> out;
+    for (int i = 0; i < n; ++i)
+      if (c[size_t(i)]) out.push_back(i);
+    return out;
+  };
+  EXPECT_EQ(flagged(p, 0), std::vector<int>{});
+  EXPECT_EQ(flagged(p, 3), std::vector<int>{});
+  VoxelCrfProblem q = p;
+  q.f_appearance[size_t(9 * K + 1)] += 0.5f;  // Node 9; its edges: 8-9, 9-10 (chain) and 6-9 (i, i + 3).
+  EXPECT_EQ(flagged(q, 0), (std::vector<int>{9}));
+  EXPECT_EQ(flagged(q, 1), (std::vector<int>{6, 8, 9, 10}));
+  EXPECT_EQ(flagged(q, 2), (std::vector<int>{5, 6, 7, 8, 9, 10, 11}));
+  q = p;
+  q.f_depth_empty[2] = 0;
+  q.state[11] = uint8_t((q.state[11] + 1) % 3);
+  EXPECT_EQ(flagged(q, 0), (std::vector<int>{2, 11}));
+  q = p;
+  q.edges[3].type = int16_t(q.edges[3].type == kWPairwise2d ? kWPairwise3d : kWPairwise2d);  // Edge 3-4.
+  EXPECT_EQ(flagged(q, 0), (std::vector<int>{3, 4}));
+  q = p;
+  q.edges.push_back({1, 11, int16_t(kWPairwise2d)});
+  EXPECT_EQ(flagged(q, 0), (std::vector<int>{1, 11}));
+  q = p;
+  q.cliques[1].q = 2.5f;  // Members 3, 4, 5, 6.
+  EXPECT_EQ(flagged(q, 0), (std::vector<int>{3, 4, 5, 6}));
+  q = p;
+  std::reverse(q.edges.begin(), q.edges.end());  // The same terms in another order.
+  EXPECT_EQ(flagged(q, 0), std::vector<int>{});
+  // Another node count: every node.
+  EXPECT_EQ(ChangedNodes(p, std::vector<uint64_t>(size_t(n - 1)), before, 0), std::vector<uint8_t>(size_t(n), 1));
+}
+
 TEST(VoxelCrfLearning, StructuredSvmLowersTheTrainingError) {
   // Examples whose appearance feature is informative while the initial weights ignore it and favour empty.
   std::mt19937_64 rng(3);
