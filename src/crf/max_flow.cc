@@ -313,6 +313,9 @@ void MaxFlowGraph<Capacity>::ProcessOrphan(int p, bool sink_tree) {
       nodes_[j].timestamp = time_;
       nodes_[j].distance = d--;
     }
+    // A parent attached to the terminal is as close as any: stop scanning (the auxiliary node of a large
+    // Robust P^n clique has an arc to every member).
+    if (best_distance == 1) break;
   }
   Node& pn = nodes_[p];
   if (best_arc != kNone) {

@@ -160,6 +160,47 @@ TEST(MaxFlowGraph, EqualsEdmondsKarpOnLargerGraphs) {
   }
 }
 
+// Hub nodes with arcs to many others (the auxiliary nodes of large Robust P^n cliques in alpha-expansion), on
+// a grid: adoption may stop scanning a hub's arcs at a parent attached to the terminal; the flow is still
+// Edmonds-Karp's and the cut minimal.
+TEST(MaxFlowGraph, HubNodesGiveTheMaximumFlowAndAMinimalCut) {
+  for (uint64_t seed = 0; seed < 20; ++seed) {
+    const int w = 14, h = 12, hubs = 4;
+    std::mt19937_64 rng(900 + seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    TestGraph tg;
+    tg.n = w * h + hubs;
+    for (int v = 0; v < tg.n; ++v) {
+      const double d = unit(rng) - 0.5;
+      tg.source.push_back(d > 0 ? d : 0);
+      tg.sink.push_back(d < 0 ? -d : 0);
+    }
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int v = y * w + x;
+        if (x + 1 < w) tg.edges.push_back({v, v + 1, 0.3 * unit(rng), 0.3 * unit(rng)});
+        if (y + 1 < h) tg.edges.push_back({v, v + w, 0.3 * unit(rng), 0.3 * unit(rng)});
+      }
+    for (int k = 0; k < hubs; ++k) {
+      const int hub = w * h + k;
+      for (int v = 0; v < w * h; ++v)
+        if (unit(rng) < 0.6) {
+          // Members -> hub (like member -> z) or hub -> members (like y -> member), one direction per hub.
+          if (k % 2 == 0)
+            tg.edges.push_back({v, hub, 0.2 * unit(rng), 0.0});
+          else
+            tg.edges.push_back({hub, v, 0.2 * unit(rng), 0.0});
+        }
+    }
+    MaxFlowGraph<double> g(tg.n);
+    std::vector<bool> side;
+    const double flow = SolveWith(tg, &g, &side);
+    const double expected = EdmondsKarp(tg);
+    EXPECT_NEAR(flow, expected, 1e-9 * (1 + expected)) << "seed " << seed;
+    EXPECT_NEAR(CutCost(tg, side), expected, 1e-9 * (1 + expected)) << "seed " << seed;
+  }
+}
+
 TEST(MaxFlowGraph, GridCutIsMinimalAgainstEdmondsKarp) {
   // A 12 x 12 4-connected grid with random terminals: the shape alpha-expansion produces.
   const int w = 12, h = 12;
