@@ -276,7 +276,10 @@ Result<Raycaster> Raycaster::FromCloud(const PointCloud& cloud, const RaycasterO
     if (!tri) return EmbreeFailure("rtcNewGeometry(cloud squares)");
     rtcSetSharedGeometryBuffer(tri, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, impl->vertex_data.data(), 0, 3 * sizeof(float), 4 * nd);
     rtcSetSharedGeometryBuffer(tri, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, impl->faces.data(), 0, sizeof(Eigen::Vector3i), 2 * nd);
-    SEMVOX_RETURN_IF_ERROR(CommitScene(tri, options.robust, impl.get(), "point cloud squares"));
+    // Not Embree's watertight test: it keeps rays from slipping between faces that share an edge, and the
+    // squares overlap their neighbours anyway (a quarter of the trace time at 160 x 120, the same hits on
+    // the 91 m2 flat of seed 106: cloud_render_bench, docs/speed.md).
+    SEMVOX_RETURN_IF_ERROR(CommitScene(tri, /*robust=*/false, impl.get(), "point cloud squares"));
     // Primitive of triangle t: disc t / 2, then its point.
     std::vector<int32_t> tri_point(2 * nd);
     for (size_t t = 0; t < 2 * nd; ++t) tri_point[t] = impl->disc_point.empty() ? int32_t(t / 2) : impl->disc_point[t / 2];

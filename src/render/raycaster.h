@@ -70,8 +70,8 @@ struct RaycasterOptions {
   // Point clouds only: draw each disc as the square of the same radius around it (half side = radius, in the
   // disc's plane), two triangles for Embree's fast triangle intersectors instead of an oriented disc.
   bool cloud_squares = false;
-  // Embree's robust (watertight) triangle test: no ray slips between two faces that share an edge.
-  // Costs a few percent of speed.
+  // Embree's robust (watertight) triangle test for meshes: no ray slips between two faces that share an edge.
+  // Costs a few percent of speed. Cloud squares (cloud_squares) never use it: they overlap their neighbours.
   bool robust = true;
 
   bool Check(std::string* error) const;
