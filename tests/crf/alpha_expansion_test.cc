@@ -25,6 +25,21 @@ std::vector<CrfLabel> RandomLabels(int n, int L, uint64_t seed) {
   return x;
 }
 
+// A w x h 4-connected Potts grid whose truth is diagonal bands of block_x x block_y cells: unary 0 for the
+// band's label and off_cost for the others, plus unit(rng) noise; every edge weight `potts`.
+CrfEnergy NoisyBandGrid(int w, int h, int L, int block_x, int block_y, float off_cost, float potts, std::mt19937_64* rng) {
+  CrfEnergy energy(w * h, L);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int truth = (x / block_x + y / block_y) % L;
+      for (int l = 0; l < L; ++l) energy.SetUnary(y * w + x, l, (l == truth ? 0.0f : off_cost) + unit(*rng));
+      if (x + 1 < w) energy.AddEdge(y * w + x, y * w + x + 1, potts);
+      if (y + 1 < h) energy.AddEdge(y * w + x, (y + 1) * w + x, potts);
+    }
+  return energy;
+}
+
 void ExpectMonotone(const CrfSolverSummary& s, const std::string& what) {
   double previous = s.initial_energy;
   for (size_t k = 0; k < s.energy_per_expansion.size(); ++k) {
@@ -345,16 +360,9 @@ class SerialMovesGraph {
 // labels, the energy after every expansion and the pruning of the plain serial construction.
 TEST(AlphaExpansion, ParallelMovesWithManyCliquesEqualTheSerialMoves) {
   const int w = 200, h = 180, L = 7;
-  CrfEnergy energy(w * h, L);
   std::mt19937_64 rng(33);
+  CrfEnergy energy = NoisyBandGrid(w, h, L, 25, 18, 0.6f, 0.3f, &rng);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const int truth = (x / 25 + y / 18) % L;
-      for (int l = 0; l < L; ++l) energy.SetUnary(y * w + x, l, (l == truth ? 0.0f : 0.6f) + unit(rng));
-      if (x + 1 < w) energy.AddEdge(y * w + x, y * w + x + 1, 0.3f);
-      if (y + 1 < h) energy.AddEdge(y * w + x, (y + 1) * w + x, 0.3f);
-    }
   // Blocks of 20 x 12 on a 10 x 6 stride: every pixel inside lies in up to four cliques; plus rows.
   for (int y0 = 0; y0 + 12 <= h; y0 += 6)
     for (int x0 = 0; x0 + 20 <= w; x0 += 10) {
@@ -399,16 +407,9 @@ TEST(AlphaExpansion, ParallelMovesWithManyCliquesEqualTheSerialMoves) {
 // same labels, same energy after every expansion; on the parallel moves and on the serial ones.
 TEST(AlphaExpansion, MovableNodesMoveAsIfTheOthersWereFixedByTheirUnaries) {
   const int w = 200, h = 180, L = 6, n = w * h;
-  CrfEnergy energy(n, L);
   std::mt19937_64 rng(71);
+  CrfEnergy energy = NoisyBandGrid(w, h, L, 30, 20, 0.5f, 0.35f, &rng);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const int truth = (x / 30 + y / 20) % L;
-      for (int l = 0; l < L; ++l) energy.SetUnary(y * w + x, l, (l == truth ? 0.0f : 0.5f) + unit(rng));
-      if (x + 1 < w) energy.AddEdge(y * w + x, y * w + x + 1, 0.35f);
-      if (y + 1 < h) energy.AddEdge(y * w + x, (y + 1) * w + x, 0.35f);
-    }
   for (int y0 = 0; y0 + 16 <= h; y0 += 16)
     for (int x0 = 0; x0 + 16 <= w; x0 += 24) {
       std::vector<int> members;

@@ -117,6 +117,16 @@ Capacity SolveWith(const TestGraph& tg, MaxFlowGraph<Capacity>* g, std::vector<b
   return flow;
 }
 
+// The flow of `tg` equals Edmonds-Karp's and the reported cut costs that much.
+void ExpectMaximumFlowAndMinimalCut(const TestGraph& tg, uint64_t seed) {
+  MaxFlowGraph<double> g(tg.n);
+  std::vector<bool> side;
+  const double flow = SolveWith(tg, &g, &side);
+  const double expected = EdmondsKarp(tg);
+  EXPECT_NEAR(flow, expected, 1e-9 * (1 + expected)) << "seed " << seed;
+  EXPECT_NEAR(CutCost(tg, side), expected, 1e-9 * (1 + expected)) << "seed " << seed;
+}
+
 TEST(MaxFlowGraph, EqualsBruteForceMinCutOnSmallRandomGraphs) {
   int tested = 0;
   for (uint64_t seed = 0; seed < 600; ++seed) {
@@ -150,13 +160,7 @@ TEST(MaxFlowGraph, IntegerAndFloatCapacitiesAgree) {
 
 TEST(MaxFlowGraph, EqualsEdmondsKarpOnLargerGraphs) {
   for (uint64_t seed = 0; seed < 40; ++seed) {
-    const TestGraph tg = RandomGraph(60, 0.08, seed % 2 == 0, 5000 + seed);
-    MaxFlowGraph<double> g(tg.n);
-    std::vector<bool> side;
-    const double flow = SolveWith(tg, &g, &side);
-    const double expected = EdmondsKarp(tg);
-    EXPECT_NEAR(flow, expected, 1e-9 * (1 + expected)) << "seed " << seed;
-    EXPECT_NEAR(CutCost(tg, side), expected, 1e-9 * (1 + expected)) << "seed " << seed;
+    ExpectMaximumFlowAndMinimalCut(RandomGraph(60, 0.08, seed % 2 == 0, 5000 + seed), seed);
   }
 }
 
@@ -192,12 +196,7 @@ TEST(MaxFlowGraph, HubNodesGiveTheMaximumFlowAndAMinimalCut) {
             tg.edges.push_back({hub, v, 0.2 * unit(rng), 0.0});
         }
     }
-    MaxFlowGraph<double> g(tg.n);
-    std::vector<bool> side;
-    const double flow = SolveWith(tg, &g, &side);
-    const double expected = EdmondsKarp(tg);
-    EXPECT_NEAR(flow, expected, 1e-9 * (1 + expected)) << "seed " << seed;
-    EXPECT_NEAR(CutCost(tg, side), expected, 1e-9 * (1 + expected)) << "seed " << seed;
+    ExpectMaximumFlowAndMinimalCut(tg, seed);
   }
 }
 
