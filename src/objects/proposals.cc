@@ -12,6 +12,7 @@
 #include <unordered_map>
 
 #include "core/file_util.h"
+#include "core/hash.h"
 #include "objects/support_fusion.h"
 
 namespace semvox {
@@ -19,13 +20,6 @@ namespace {
 
 double MsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-uint64_t Mix(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
 }
 
 // Median depth of a box (on a grid of at most 16 x 16 samples), 0 without depth.
@@ -240,7 +234,7 @@ std::vector<CandidateWindow> CandidateWindows(const RenderedView& view, const Su
     const std::array<double, 4> p = nyu4.Mean(r.box);
     c.semantic = p[2] + p[3];
     if (options.sample_by_semantics) {
-      const uint64_t hsh = Mix(options.seed ^ Mix((uint64_t(r.box.x0) << 48) ^ (uint64_t(r.box.y0) << 32) ^ (uint64_t(r.box.x1) << 16) ^ uint64_t(r.box.y1)));
+      const uint64_t hsh = SplitMix64(options.seed ^ SplitMix64((uint64_t(r.box.x0) << 48) ^ (uint64_t(r.box.y0) << 32) ^ (uint64_t(r.box.x1) << 16) ^ uint64_t(r.box.y1)));
       const double u = double(hsh >> 11) * (1.0 / 9007199254740992.0);
       if (u >= c.semantic) continue;
     }

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/file_util.h"
+#include "core/hash.h"
 
 namespace semvox {
 
@@ -41,14 +42,6 @@ struct Tree {
   std::vector<int> leaf_class;
   std::vector<float> leaf_share;
 };
-
-// SplitMix64: decorrelated seeds for the trees' generators.
-uint64_t Mix(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 // Uniform integer in [0, n) from the standard-fixed mt19937_64 output (portable, unlike
 // std::uniform_int_distribution).
@@ -202,7 +195,7 @@ Result<RandomForest> RandomForest::Train(std::span<const float> features, int di
   impl->dims = dims, impl->K = num_classes, impl->floor = options.probability_floor;
   impl->trees.resize(size_t(options.trees));
   tbb::parallel_for(0, options.trees, [&](int t) {
-    TreeBuilder b(features, dims, labels, w, num_classes, options, mtry, Mix(options.seed * 0x100000001B3ull + uint64_t(t)));
+    TreeBuilder b(features, dims, labels, w, num_classes, options, mtry, SplitMix64(options.seed * 0x100000001B3ull + uint64_t(t)));
     impl->trees[size_t(t)] = b.Build();
   });
   return RandomForest(std::move(impl));

@@ -9,6 +9,8 @@
 #include <random>
 #include <vector>
 
+#include "core/hash.h"
+
 namespace semvox {
 
 class Rng {
@@ -46,14 +48,5 @@ class Rng {
  private:
   std::mt19937_64 engine_;
 };
-
-// SplitMix64 (Steele et al. 2014): a stateless hash used where a value must depend only on its inputs
-// (e.g. vertex noise keyed by position, so that coincident vertices move together).
-inline uint64_t SplitMix64(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 
 }  // namespace semvox

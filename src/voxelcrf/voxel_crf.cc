@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "core/file_util.h"
+#include "core/hash.h"
 #include "core/labels.h"
 #include "core/log.h"
 #include "mapping/ray_traversal.h"
@@ -555,12 +556,6 @@ std::array<double, kNumVoxelCrfWeights> VoxelCrfProblem::Features(const std::vec
 // Local re-solves.
 
 namespace {
-inline uint64_t Mix(uint64_t h, uint64_t v) {  // splitmix64 of h ^ v, then a rotation: order matters.
-  uint64_t z = h ^ (v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2));
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
 inline uint64_t FloatBits(float f) {
   uint32_t u;
   std::memcpy(&u, &f, sizeof u);
@@ -573,13 +568,13 @@ std::vector<uint64_t> NodeFingerprints(const VoxelCrfProblem& p) {
   std::vector<uint64_t> fp(N, 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, N, 8192), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      uint64_t h = Mix(0, p.state[i]);
-      h = Mix(h, p.keep_occupied.empty() ? 2u : p.keep_occupied[i]);
-      h = Mix(h, FloatBits(p.f_depth_empty[i]) | FloatBits(p.f_density_empty[i]) << 32);
-      h = Mix(h, FloatBits(p.f_depth_occ[i]) | FloatBits(p.f_density_occ[i]) << 32);
+      uint64_t h = HashCombine(0, p.state[i]);
+      h = HashCombine(h, p.keep_occupied.empty() ? 2u : p.keep_occupied[i]);
+      h = HashCombine(h, FloatBits(p.f_depth_empty[i]) | FloatBits(p.f_density_empty[i]) << 32);
+      h = HashCombine(h, FloatBits(p.f_depth_occ[i]) | FloatBits(p.f_density_occ[i]) << 32);
       for (size_t k = 0; k < K; ++k) {
-        h = Mix(h, FloatBits(p.f_appearance[i * K + k]) | FloatBits(p.f_layout[i * K + k]) << 32);
-        if (!p.f_segment.empty()) h = Mix(h, FloatBits(p.f_segment[i * K + k]));
+        h = HashCombine(h, FloatBits(p.f_appearance[i * K + k]) | FloatBits(p.f_layout[i * K + k]) << 32);
+        if (!p.f_segment.empty()) h = HashCombine(h, FloatBits(p.f_segment[i * K + k]));
       }
       fp[i] = h;
     }
@@ -587,15 +582,15 @@ std::vector<uint64_t> NodeFingerprints(const VoxelCrfProblem& p) {
   // Edges and cliques: a sum over them (their order in the lists does not matter).
   std::vector<uint64_t> sum(N, 0);
   for (const VoxelCrfProblem::Edge& e : p.edges) {
-    sum[size_t(e.i)] += Mix(Mix(1, uint64_t(e.j)), uint64_t(e.type));
-    sum[size_t(e.j)] += Mix(Mix(1, uint64_t(e.i)), uint64_t(e.type));
+    sum[size_t(e.i)] += HashCombine(HashCombine(1, uint64_t(e.j)), uint64_t(e.type));
+    sum[size_t(e.j)] += HashCombine(HashCombine(1, uint64_t(e.i)), uint64_t(e.type));
   }
   for (const VoxelCrfProblem::Clique& c : p.cliques) {
-    uint64_t h = Mix(Mix(2, uint64_t(c.type)), FloatBits(c.q));
-    for (int v : c.nodes) h = Mix(h, uint64_t(v));
+    uint64_t h = HashCombine(HashCombine(2, uint64_t(c.type)), FloatBits(c.q));
+    for (int v : c.nodes) h = HashCombine(h, uint64_t(v));
     for (int v : c.nodes) sum[size_t(v)] += h;
   }
-  for (size_t i = 0; i < N; ++i) fp[i] = Mix(fp[i], sum[i]);
+  for (size_t i = 0; i < N; ++i) fp[i] = HashCombine(fp[i], sum[i]);
   return fp;
 }
 
