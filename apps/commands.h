@@ -117,6 +117,7 @@ struct TrainArgs {
   std::string room_type_calibration_plans = "250-299";  // ... choosing the weights' scale on these R2V training plans (held out; "" = on the learning scenes).
   int room_type_ssvm_runs = 3;              // ... averaging the SSVM direction over this many runs.
   bool room_shapes_only = false;            // Train only the room-shape model (real R2V plans).
+  std::string room_shape_features;          // Its features, comma-separated names (empty: the default set).
   bool room_type_statistics_only = false;   // Recompute the R2V fixture statistics of OUTDIR/room_type_crf.json.
   bool room_type_knn_only = false;          // Rebuild OUTDIR/room_type_knn.bin from generated apartments + R2V plans.
   int room_type_plans = 300;                // ... from the first this many sorted R2V plans (<= 300, the training split).

@@ -126,6 +126,9 @@ int main(int argc, char** argv) {
                         "--room-type-knn rows from the true classes of each view (truth, as `semvox train`) or from those the "
                         "per-view classifier OUTDIR/second.* predicts (predicted, as at run time)")
       ->check(CLI::IsMember({"truth", "predicted"}));
+  train_cmd->add_option("--room-shape-features", train.room_shape_features,
+                        "features of the room-shape model, comma-separated (log_area_m2, log_aspect, log_width_m, log_area_share, "
+                        "log1p_connections, exterior_share); default: all");
   train_cmd->add_option("--r2v-dir", train.r2v_dir, "R2V plans (plan_*.txt) for --room-shapes and the room-type statistics "
                         "(default ../shared/data/r2v, relative to the working directory)");
   train_cmd->add_option("--segment-seeds", train.segment_seeds, "generator seeds for the object-segment classifier, e.g. 0-99");

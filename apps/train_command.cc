@@ -145,8 +145,22 @@ Status RunTrainRoomShapes(const TrainArgs& args) {
     return Status::InvalidInput(FileError(dir, "no such directory (the R2V plans)", "pass --r2v-dir DIR, or run from the source tree's root"));
   std::filesystem::create_directories(args.outdir, ec);
   if (ec) return Status::InvalidInput(FileError(args.outdir, "cannot create the output directory", ec.message()));
+  std::vector<int> features;
+  for (size_t start = 0; start <= args.room_shape_features.size() && !args.room_shape_features.empty();) {
+    size_t end = args.room_shape_features.find(',', start);
+    if (end == std::string::npos) end = args.room_shape_features.size();
+    const std::string name = args.room_shape_features.substr(start, end - start);
+    const auto& names = RoomShapeFeatureNames();
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end())
+      return Status::InvalidInput("--room-shape-features: unknown feature '" + name + "' (hint: `semvox train --help` lists them)");
+    features.push_back(int(it - names.begin()));
+    start = end + 1;
+  }
+  if (features.empty())
+    for (int f = 0; f < kRoomShapeFeatures; ++f) features.push_back(f);
   RoomShapeTrainingReport r;
-  Result<RoomShapeModel> model = TrainRoomShapesFromR2v(dir, kR2vTrainingPlans, &r);
+  Result<RoomShapeModel> model = TrainRoomShapesFromR2v(dir, kR2vTrainingPlans, &r, features);
   if (!model.ok()) return model.status();
   SEMVOX_RETURN_IF_ERROR(SaveRoomShapeModel(*model, args.outdir + "/room_shape.json"));
   std::printf("%s", r.ToText().c_str());
@@ -158,6 +172,12 @@ Status RunTrainRoomShapes(const TrainArgs& args) {
   j["val_area_accuracy"] = std::round(1e4 * r.val_area_accuracy) / 1e4;
   j["val_class_average"] = std::round(1e4 * r.val_class_average) / 1e4;
   j["val_confusion_m2"] = r.confusion_m2;
+  j["features"] = nlohmann::json::array();
+  for (const int f : model->features) j["features"].push_back(RoomShapeFeatureNames()[size_t(f)]);
+  for (size_t i = 0; i < r.adjacency_weights.size() && i < r.adjacency_area_accuracy.size(); ++i)
+    j["val_with_adjacency"].push_back({{"weight", r.adjacency_weights[i]},
+                                       {"area_accuracy", std::round(1e4 * r.adjacency_area_accuracy[i]) / 1e4},
+                                       {"class_average", std::round(1e4 * r.adjacency_class_average[i]) / 1e4}});
   return WriteFileAtomic(args.outdir + "/room_shape_report.json", j.dump(2) + "\n");
 }
 

@@ -8,7 +8,8 @@
 # run's seconds; per plan and mean, the room-type confusion in m² summed over the plans, then the ipa maps of
 # ../shared/data beside them (scripts/bench_rooms.sh's figures, distance method). Exits 0 with a message when
 # the plans are absent.
-# Usage: scripts/bench_rooms_real.sh [--plans 300-399] [--inputs mesh,cloud] [--keep DIR] [--no-furniture]
+# Usage: scripts/bench_rooms_real.sh [--plans 300-399] [--inputs mesh,cloud] [--keep DIR] [--no-furniture] [--config FILE]
+#   --config FILE     passed to every `semvox run` (e.g. a room_types section to compare settings)
 #   SEMVOX_BUILD_DIR  build directory (default build)
 #   SEMVOX_R2V        plan directory (default ../shared/data/r2v)
 set -euo pipefail
@@ -19,13 +20,15 @@ PLANS=300-399
 INPUTS=mesh,cloud
 KEEP=
 FURNITURE=
+CONFIG=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --plans) PLANS=$2; shift 2 ;;
     --inputs) INPUTS=$2; shift 2 ;;
     --keep) KEEP=$2; shift 2 ;;
     --no-furniture) FURNITURE=--no-furniture; shift ;;
-    *) echo "bench_rooms_real.sh: unknown argument $1 (hint: --plans A-B, --inputs mesh,cloud, --keep DIR, --no-furniture)" >&2; exit 2 ;;
+    --config) CONFIG=(--config "$(realpath "$2")"); shift 2 ;;
+    *) echo "bench_rooms_real.sh: unknown argument $1 (hint: --plans A-B, --inputs mesh,cloud, --keep DIR, --no-furniture, --config FILE)" >&2; exit 2 ;;
   esac
 done
 if [ ! -d "$R2V" ]; then
@@ -60,7 +63,7 @@ for i in $(seq "$first" "$last"); do
     file=$dir/mesh.ply
     [ "$input" = cloud ] && file=$dir/cloud.ply
     start=$(date +%s.%N)
-    if ! "$SEMVOX" run "$file" -o "$dir/$input" -q 2>"$dir/$input.err"; then
+    if ! "$SEMVOX" run "$file" -o "$dir/$input" "${CONFIG[@]}" -q 2>"$dir/$input.err"; then
       echo "plan $i $input: run failed: $(tail -1 "$dir/$input.err")"
       continue
     fi

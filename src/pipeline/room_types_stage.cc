@@ -64,6 +64,7 @@ nlohmann::ordered_json RoomTypesSummaryJson(const RoomTypesStageResult& typed) {
   j["model"] = options.model_path;
   j["shape_model"] = typed.shapes_used ? options.shape_model_path : std::string();
   j["shape_weight"] = typed.shapes_used ? options.shape_weight : 0.0;
+  j["adjacency_weight"] = typed.shapes_used ? options.adjacency_weight : 0.0;
   j["views"] = typed.views;
   j["splits"] = result.splits;
   j["seconds"] = std::round(result.seconds * 1e3) / 1e3;
@@ -80,7 +81,8 @@ nlohmann::ordered_json RoomTypesSummaryJson(const RoomTypesStageResult& typed) {
     const RoomShape& s = result.shapes[size_t(source - 1)];
     j["rooms"][i]["shape"] = {{"area_m2", std::round(s.area_m2 * 100) / 100}, {"aspect", std::round(s.aspect * 100) / 100},
                               {"fill", std::round(s.fill * 100) / 100}, {"width_m", std::round(s.width_m * 100) / 100},
-                              {"connections", s.connections}};
+                              {"connections", s.connections}, {"neighbours", s.neighbours},
+                              {"exterior_share", std::round(s.exterior_share * 100) / 100}};
   }
   return j;
 }

@@ -170,15 +170,23 @@ std::vector<R2vRoomSample> R2vRoomShapes(const std::vector<std::string>& files, 
     const R2vRooms rooms = RasteriseR2vRooms(*plan);
     const int n = int(rooms.type_id.size()) - 1;
     const std::vector<RoomShape> shapes = MeasureRoomShapes(rooms.ids, n, rooms.resolution_m, &rooms.connections);
+    std::vector<int> index(size_t(n) + 1, -1);  // Room id -> sample index.
     for (int r = 1; r <= n; ++r)
-      if (rooms.type_id[size_t(r)] > 0 && shapes[size_t(r - 1)].area_m2 > 0)
-        out.push_back({{rooms.type_id[size_t(r)], shapes[size_t(r - 1)]}, int(f)});
+      if (rooms.type_id[size_t(r)] > 0 && shapes[size_t(r - 1)].area_m2 > 0) {
+        index[size_t(r)] = int(out.size());
+        out.push_back({{rooms.type_id[size_t(r)], shapes[size_t(r - 1)], {}}, int(f)});
+      }
+    for (int r = 1; r <= n; ++r)
+      if (index[size_t(r)] >= 0)
+        for (const int o : rooms.connections[size_t(r)])
+          if (o >= 1 && o <= n && index[size_t(o)] >= 0) out[size_t(index[size_t(r)])].sample.neighbours.push_back(index[size_t(o)]);
   }
   if (skipped) *skipped = bad;
   return out;
 }
 
-Result<RoomShapeModel> TrainRoomShapesFromR2v(const std::string& dir, int train_plans, RoomShapeTrainingReport* report) {
+Result<RoomShapeModel> TrainRoomShapesFromR2v(const std::string& dir, int train_plans, RoomShapeTrainingReport* report,
+                                              const std::vector<int>& features) {
   const std::vector<std::string> files = ListR2vPlans(dir);
   if (files.empty())
     return Status::InvalidInput(FileError(dir, "no plan_*.txt (R2V plans) found", "pass the r2v folder of ../shared/data"));
@@ -190,36 +198,68 @@ Result<RoomShapeModel> TrainRoomShapesFromR2v(const std::string& dir, int train_
   const std::vector<R2vRoomSample> val_rooms = R2vRoomShapes(val, &skipped_val);
   std::vector<RoomShapeSample> samples;
   for (const R2vRoomSample& s : train_rooms) samples.push_back(s.sample);
-  RoomShapeModel model = TrainRoomShapeModel(samples);
+  RoomShapeModel model = TrainRoomShapeModel(samples, 15, 0.01, features);
+  model.adjacency = TrainRoomAdjacency(samples);
   r.train_plans = int(train.size()), r.val_plans = int(val.size()), r.skipped_plans = skipped_train + skipped_val;
   r.train_rooms = int(train_rooms.size()), r.val_rooms = int(val_rooms.size());
   std::ostringstream prov;
   prov << "R2V plans 0-" << split - 1 << " of " << dir.substr(dir.find_last_of('/') + 1) << " (" << r.train_rooms
        << " typed rooms, median door = 0.8 m)";
   model.provenance = prov.str();
-  int right = 0;
-  double area = 0, area_right = 0;
-  for (const R2vRoomSample& s : val_rooms) {
-    const auto ratio = LogLikelihoodRatios(model, s.sample.shape, /*open_plan=*/false);
-    int best = -1;
-    for (int t = 0; t < kRoomShapeTypes; ++t)
-      if (model.types[size_t(t)].rooms > 0 && (best < 0 || ratio[size_t(t)] > ratio[size_t(best)])) best = t;
-    if (best < 0) continue;
-    const int truth = s.sample.type_id - 1;
-    const double a = s.sample.shape.area_m2;
-    r.confusion_m2[size_t(truth)][size_t(best)] += a;
-    right += best == truth, area += a, area_right += best == truth ? a : 0;
+  // Validation: the shape alone (argmax of its ratios, a uniform type prior), then with the adjacency term's
+  // messages at each weight of RoomShapeTrainingReport::adjacency_weights (rooms of one plan together).
+  using Dist = std::array<double, kRoomShapeTypes>;
+  std::vector<Dist> ratio(val_rooms.size());
+  for (size_t i = 0; i < val_rooms.size(); ++i) ratio[i] = LogLikelihoodRatios(model, val_rooms[i].sample.shape, /*open_plan=*/false);
+  auto score = [&](double weight, std::array<std::array<double, kRoomShapeTypes>, kRoomShapeTypes>* confusion, double* room_acc,
+                   double* area_acc, double* class_avg) {
+    std::vector<Dist> message(val_rooms.size(), Dist{});
+    for (size_t a = 0; a < val_rooms.size();) {  // One plan's rooms are consecutive.
+      size_t b = a;
+      while (b < val_rooms.size() && val_rooms[b].plan == val_rooms[a].plan) ++b;
+      std::vector<Dist> evidence(ratio.begin() + long(a), ratio.begin() + long(b));
+      std::vector<std::vector<int>> nb(b - a);
+      for (size_t i = a; i < b; ++i)
+        for (const int j : val_rooms[i].sample.neighbours) nb[i - a].push_back(j - int(a));
+      const std::vector<Dist> m = AdjacencyMessages(model, evidence, nb, weight);
+      std::copy(m.begin(), m.end(), message.begin() + long(a));
+      a = b;
+    }
+    std::array<std::array<double, kRoomShapeTypes>, kRoomShapeTypes> conf{};
+    int right = 0;
+    double area = 0, area_right = 0;
+    for (size_t i = 0; i < val_rooms.size(); ++i) {
+      const R2vRoomSample& s = val_rooms[i];
+      int best = -1;
+      for (int t = 0; t < kRoomShapeTypes; ++t)
+        if (model.types[size_t(t)].rooms > 0 &&
+            (best < 0 || ratio[i][size_t(t)] + message[i][size_t(t)] > ratio[i][size_t(best)] + message[i][size_t(best)]))
+          best = t;
+      if (best < 0) continue;
+      const int truth = s.sample.type_id - 1;
+      const double a = s.sample.shape.area_m2;
+      conf[size_t(truth)][size_t(best)] += a;
+      right += best == truth, area += a, area_right += best == truth ? a : 0;
+    }
+    *room_acc = val_rooms.empty() ? 0 : double(right) / double(val_rooms.size());
+    *area_acc = area > 0 ? area_right / area : 0;
+    double sum = 0;
+    int present = 0;
+    for (int t = 0; t < kRoomShapeTypes; ++t) {
+      double row = 0;
+      for (double v : conf[size_t(t)]) row += v;
+      if (row > 0) sum += conf[size_t(t)][size_t(t)] / row, ++present;
+    }
+    *class_avg = present ? sum / present : 0;
+    if (confusion) *confusion = conf;
+  };
+  score(0.0, &r.confusion_m2, &r.val_room_accuracy, &r.val_area_accuracy, &r.val_class_average);
+  for (const double w : r.adjacency_weights) {
+    double room_acc = 0, area_acc = 0, class_avg = 0;
+    score(w, nullptr, &room_acc, &area_acc, &class_avg);
+    r.adjacency_area_accuracy.push_back(area_acc);
+    r.adjacency_class_average.push_back(class_avg);
   }
-  if (!val_rooms.empty()) r.val_room_accuracy = double(right) / double(val_rooms.size());
-  if (area > 0) r.val_area_accuracy = area_right / area;
-  double sum = 0;
-  int present = 0;
-  for (int t = 0; t < kRoomShapeTypes; ++t) {
-    double row = 0;
-    for (double v : r.confusion_m2[size_t(t)]) row += v;
-    if (row > 0) sum += r.confusion_m2[size_t(t)][size_t(t)] / row, ++present;
-  }
-  if (present) r.val_class_average = sum / present;
   if (report) *report = r;
   return model;
 }
@@ -233,7 +273,10 @@ std::string RoomShapeTrainingReport::ToText() const {
     << val_plans << " validation plans (" << skipped_plans << " plans skipped)\n";
   o << "validation, shape alone: rooms " << val_room_accuracy << ", area (pixel) accuracy " << val_area_accuracy
     << ", class average " << val_class_average << "\n";
-  o << "confusion (rows true, columns predicted, share of the row's area):\n             ";
+  for (size_t i = 0; i < adjacency_weights.size() && i < adjacency_area_accuracy.size(); ++i)
+    o << "validation, shape + adjacency at weight " << adjacency_weights[i] << ": area accuracy " << adjacency_area_accuracy[i]
+      << ", class average " << adjacency_class_average[i] << "\n";
+  o << "confusion of the shape alone (rows true, columns predicted, share of the row's area):\n             ";
   for (int p = 0; p < kRoomShapeTypes; ++p) o << ' ' << name(p).substr(0, 5);
   o << "\n";
   for (int t = 0; t < kRoomShapeTypes; ++t) {

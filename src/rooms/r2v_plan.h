@@ -82,11 +82,17 @@ struct RoomShapeTrainingReport {
   double val_area_accuracy = 0;   // The same weighted by area (as a pixel accuracy).
   double val_class_average = 0;   // Mean over the types present of the area-weighted recall.
   std::array<std::array<double, kRoomShapeTypes>, kRoomShapeTypes> confusion_m2{};  // [true][predicted], m².
+  // The shape with the adjacency term's room-level mean field (AdjacencyMessages) at these weights.
+  std::vector<double> adjacency_weights = {0.25, 0.5, 1.0, 2.0};
+  std::vector<double> adjacency_area_accuracy, adjacency_class_average;
   std::string ToText() const;
 };
 
 // Trains on the first `train_plans` sorted plans of `dir` and validates on the rest (the split of the
 // real-layouts work: plans 0-299 train, 300-399 validation).
-Result<RoomShapeModel> TrainRoomShapesFromR2v(const std::string& dir, int train_plans, RoomShapeTrainingReport* report);
+// `features`: indices into RoomShape::Vector() (RoomShapeFeatureNames()); the adjacency is learnt from the
+// same plans' doors.
+Result<RoomShapeModel> TrainRoomShapesFromR2v(const std::string& dir, int train_plans, RoomShapeTrainingReport* report,
+                                              const std::vector<int>& features = {0, 1, 2, 3, 4, 5});
 
 }  // namespace semvox

@@ -26,7 +26,8 @@
 
 namespace semvox {
 
-inline constexpr int kRoomShapeFeatures = 4;
+// Every feature a room's shape offers (RoomShape::Vector); a model uses the ones it names (RoomShapeModel::features).
+inline constexpr int kRoomShapeFeatures = 6;
 inline constexpr int kRoomShapeTypes = 12;  // room_types.tsv ids 1..12; index = id - 1.
 
 struct RoomShape {
@@ -36,12 +37,14 @@ struct RoomShape {
   double width_m = 0;      // Twice the largest distance from a room pixel to the room's edge (the widest
                            // inscribed square's side): a corridor is long and narrow.
   int connections = 0;     // Other rooms it opens into (through a door or an opening).
+  std::vector<int> neighbours;  // Their ids.
   double area_share = 1;   // Area / the area of all rooms of the raster (plan or scan), (0, 1].
-  // Model features: log area, log aspect, log width, log area share. The fill and the connections are reported but are no
-  // features: plan rooms are near-perfect rectangles (fill 0.99 +- 0.02 for bathrooms) while a scanned room's
-  // outline is ragged with furniture and unobserved cells, and a scan of a studio or of part of a flat has
-  // rooms with no or one neighbour where a plan's living room has three or four; both would tell plans
-  // from scans, not types.
+  double exterior_share = 0;  // Share of the room's edge pixels with no pixel of another room within
+                              // kExteriorReachM: the edge that faces the outside (or unscanned space).
+  // All features, in the order of RoomShapeFeatureNames(): log area, log aspect, log width, log area share,
+  // log(1 + connections), exterior share. The fill is reported but is no feature: plan rooms are near-perfect
+  // rectangles (fill 0.99 +- 0.02 for bathrooms) while a scanned room's outline is ragged with furniture and
+  // unobserved cells.
   std::array<double, kRoomShapeFeatures> Vector() const;
 };
 
@@ -51,15 +54,27 @@ struct RoomShape {
 std::vector<RoomShape> MeasureRoomShapes(const ImageU16& ids, int num_rooms, double resolution_m,
                                      const std::vector<std::vector<int>>* connections = nullptr);
 
+// Names of RoomShape::Vector()'s entries, as the model files give them.
+const std::array<const char*, kRoomShapeFeatures>& RoomShapeFeatureNames();
+
+// How far across a wall another room may lie for an edge pixel to count as interior (RoomShape::exterior_share).
+inline constexpr double kExteriorReachM = 0.6;
+
 struct RoomShapeModel {
+  // Indices into RoomShape::Vector() of the features the model uses (the first four until 2026-12-04).
+  std::vector<int> features = {0, 1, 2, 3};
   struct TypeModel {
-    int rooms = 0;                                              // Training rooms; 0: not modelled.
-    std::array<double, kRoomShapeFeatures> mean{};
-    std::array<double, kRoomShapeFeatures * kRoomShapeFeatures> inverse_covariance{};  // Row-major.
+    int rooms = 0;                            // Training rooms; 0: not modelled.
+    std::vector<double> mean;                 // Per used feature.
+    std::vector<double> inverse_covariance;   // Row-major, used x used.
     double log_det_covariance = 0;
     int proxy_type_id = 0;  // Not modelled: the type whose ratio it takes (0: none).
   };
   std::array<TypeModel, kRoomShapeTypes> types{};
+  // Which types neighbour which (a door or an opening between them): log P(a, b) / (P(a) P(b)) over the
+  // neighbouring room pairs of the plans, [a][b] with index = id - 1, clipped to [-kMaxAdjacency,
+  // kMaxAdjacency]; all 0 when not learnt (a model file from before 2026-12-04).
+  std::array<std::array<double, kRoomShapeTypes>, kRoomShapeTypes> adjacency{};
   double max_ratio = 3.0;   // Ratios are clipped to [-min_ratio, max_ratio] (natural log).
   double min_ratio = 5.0;
   std::string provenance;
@@ -68,11 +83,31 @@ struct RoomShapeModel {
 struct RoomShapeSample {
   int type_id = 0;  // room_types.tsv id 1..12.
   RoomShape shape;
+  std::vector<int> neighbours;  // Indices (into the sample list) of the typed rooms it opens into.
 };
 
-// One Gaussian per type with at least `min_rooms` samples; covariances get `ridge` on the diagonal. Stand-ins:
-// childs_room and office -> bedroom, dining_room -> living_room.
-RoomShapeModel TrainRoomShapeModel(const std::vector<RoomShapeSample>& samples, int min_rooms = 15, double ridge = 0.01);
+inline constexpr double kMaxAdjacency = 2.0;
+
+// The adjacency log ratios of the samples' neighbour pairs (each unordered pair once per direction), with
+// `pseudo_count` added to every pair of modelled types; types without rooms take the stand-ins of
+// TrainRoomShapeModel; a type beside itself is never below 0 (a segmentation may cut one room in two).
+std::array<std::array<double, kRoomShapeTypes>, kRoomShapeTypes> TrainRoomAdjacency(const std::vector<RoomShapeSample>& samples,
+                                                                                     double pseudo_count = 1.0);
+
+// Room-level mean field of the adjacency term: room r's types have log evidence `log_evidence[r]` (any
+// offset), rooms `neighbours[r]` (indices) are next to it; returns per room the message
+// m_r(y) = weight * sum over neighbours s of sum_t q_s(t) adjacency[y][t], where q_s ∝ exp(log_evidence[s] + m_s)
+// after `iterations` parallel updates (damped by half). Rooms with no neighbour get 0.
+std::vector<std::array<double, kRoomShapeTypes>> AdjacencyMessages(const RoomShapeModel& model,
+                                                                   const std::vector<std::array<double, kRoomShapeTypes>>& log_evidence,
+                                                                   const std::vector<std::vector<int>>& neighbours, double weight,
+                                                                   int iterations = 20);
+
+// One Gaussian per type with at least `min_rooms` samples over the features `features` (indices into
+// RoomShape::Vector()); covariances get `ridge` on the diagonal. Stand-ins: childs_room and office -> bedroom,
+// dining_room -> living_room.
+RoomShapeModel TrainRoomShapeModel(const std::vector<RoomShapeSample>& samples, int min_rooms = 15, double ridge = 0.01,
+                                   const std::vector<int>& features = {0, 1, 2, 3});
 
 // Per type (index = id - 1): log p(shape | type) - log of the mean over the modelled types, clipped; 0 for
 // types the model does not cover.

@@ -146,8 +146,14 @@ struct RoomTypeCrfOptions {
   double min_split_fraction = 0.25;
   double min_split_probability = 0.5;
   // Room shapes (room_shape.h): every node's unary gains shape_weight x its room's log-likelihood ratios
-  // under the room-shape model (phi_shape, next to the scene and object terms).
-  double shape_weight = 0.5;
+  // under the room-shape model (phi_shape, next to the scene and object terms). 3 since 2026-12-04 (was 0.5),
+  // chosen on R2V training plans 250-269 and generated apartments 40-44 through `semvox run` (docs/rooms.md).
+  double shape_weight = 3.0;
+  // Room adjacency (room_shape.h, RoomShapeModel::adjacency, learnt with the shapes): every node's unary gains
+  // adjacency_weight x sum over its room's neighbours of the expected log ratio of the two types under the
+  // neighbour's current label shares (refreshed every sweep). Needs the room-shape model. Off by default: through
+  // `semvox run` it lowered the room types of the plans and apartments it was chosen on (docs/rooms.md).
+  double adjacency_weight = 0.0;
 
   // The fields users set (section `room_types`): meaning, unit and range.
   static const OptionTable<RoomTypeCrfOptions>& Options() {
@@ -173,6 +179,8 @@ struct RoomTypeCrfOptions {
                          "... whose mean marginal of their type is at least this"),
             OptionNumber(&O::shape_weight, "shape_weight", 0, 10, "",
                          "weight of the room-shape evidence learnt from real plans (models/room_shape.json), 0 = off"),
+            OptionNumber(&O::adjacency_weight, "adjacency_weight", 0, 10, "",
+                         "weight of the room-adjacency term learnt from real plans (which types neighbour which), 0 = off"),
         },
     });
     return table;
@@ -198,6 +206,10 @@ struct RoomTypeGraph {
   double pair_normaliser = 1;         // Expected neighbour count (the pair sum is divided by it).
   // phi_shape per node: its room's log-likelihood ratios (room_shape.h); empty when no shape model is used.
   std::vector<std::array<double, kRoomTypeLabels>> shape;
+  // The adjacency term: per room id (index = id, 0 unused) its neighbouring room ids, and the model's log
+  // ratios (room_shape.h); room_neighbours is empty when the term is not used.
+  std::vector<std::vector<int>> room_neighbours;
+  std::array<std::array<double, kRoomShapeTypes>, kRoomShapeTypes> adjacency{};
 };
 
 // Per pixel: how many of the views' cones cover it (2D ray casting on the plan; walls and unknown cells stop
@@ -268,7 +280,8 @@ RoomTypeResult AssignRoomTypes(const RoomTypeGraph& graph, const RoomSegmentatio
                                std::vector<std::array<double, kRoomTypeLabels>> marginals, const RoomTypeCrfOptions& options);
 
 // Sets graph->shape from the shapes of rooms 1..rooms.num_rooms (room_extent_ids; rooms that touch there are
-// connected) and returns those shapes.
+// connected) and, when the model has learnt its adjacency, graph->room_neighbours and graph->adjacency;
+// returns those shapes.
 std::vector<RoomShape> SetRoomShapeEvidence(const RoomSegmentation& rooms, const FloorPlan& plan, const RoomShapeModel& shapes,
                                             RoomTypeGraph* graph);
 

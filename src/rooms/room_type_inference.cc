@@ -42,11 +42,36 @@ std::vector<Dist> GibbsMarginals(const RoomTypeEnergy& energy, const RoomTypeCrf
   std::vector<int> order(N);
   std::iota(order.begin(), order.end(), 0);
   std::vector<Dist> counts(N, Dist{});
+  // The adjacency term: per room, the message from its neighbours' label shares at the start of each sweep.
+  const size_t R = g.room_neighbours.size();
+  const bool adjacency = R > 0 && energy.options.adjacency_weight > 0;
+  std::vector<Dist> share(R, Dist{}), message(R, Dist{});
+  auto refresh_messages = [&] {
+    for (Dist& d : share) d.fill(0);
+    for (size_t i = 0; i < N; ++i)
+      if (const int r = g.segment[i]; r >= 1 && size_t(r) < R) share[size_t(r)][size_t(labels[i])] += g.pixels[i];
+    for (Dist& d : share)
+      if (const double total = std::accumulate(d.begin(), d.end(), 0.0); total > 0)
+        for (double& v : d) v /= total;
+    for (size_t r = 1; r < R; ++r) {
+      message[r].fill(0);
+      for (const int o : g.room_neighbours[r]) {
+        if (o < 1 || size_t(o) >= R || size_t(o) == r) continue;
+        for (int y = 0; y < kRoomTypeLabels; ++y)
+          for (int t = 0; t < kRoomTypeLabels; ++t)
+            message[r][size_t(y)] += energy.options.adjacency_weight * share[size_t(o)][size_t(t)] * g.adjacency[size_t(y)][size_t(t)];
+      }
+    }
+  };
   const int sweeps = options.burn_in_sweeps + options.sample_sweeps;
   for (int s = 0; s < sweeps; ++s) {
     std::shuffle(order.begin(), order.end(), rng);  // Randomised order (Sec. V-C).
+    if (adjacency) refresh_messages();
     for (int i : order) {
       Dist score = unary[size_t(i)];
+      if (adjacency)
+        if (const int r = g.segment[size_t(i)]; r >= 1 && size_t(r) < R)
+          for (int y = 0; y < kRoomTypeLabels; ++y) score[size_t(y)] += message[size_t(r)][size_t(y)];
       if (!deltas[size_t(i)].empty()) {
         const auto& nb = g.neighbours[size_t(i)];
         const auto& dl = deltas[size_t(i)];
@@ -237,6 +262,15 @@ std::vector<RoomShape> SetRoomShapeEvidence(const RoomSegmentation& rooms, const
   std::vector<RoomShape> measured = MeasureRoomShapes(rooms.room_extent_ids, rooms.num_rooms, plan.resolution_m);
   std::vector<Dist> ratio(measured.size());
   for (size_t r = 0; r < measured.size(); ++r) ratio[r] = LogLikelihoodRatios(shapes, measured[r]);
+  bool learnt = false;
+  for (const auto& row : shapes.adjacency)
+    for (double v : row) learnt = learnt || v != 0;
+  graph->room_neighbours.clear();
+  if (learnt) {
+    graph->adjacency = shapes.adjacency;
+    graph->room_neighbours.assign(measured.size() + 1, {});
+    for (size_t r = 0; r < measured.size(); ++r) graph->room_neighbours[r + 1] = measured[r].neighbours;
+  }
   graph->shape.assign(graph->segment.size(), Dist{});
   for (size_t i = 0; i < graph->segment.size(); ++i) {
     const int g = graph->segment[i];

@@ -55,6 +55,10 @@ TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
   model.SetWeights(options.variant, RoomTypeWeights{5.0, {1, 1, 1, 1}, 1.0});
   options.model_path = (dir / "model.json").string();
   options.shape_model_path = std::string(SEMVOX_SOURCE_DIR) + "/models/room_shape.json";
+  // The views alone decide here (the shape term has its own tests in rooms/room_shape_test.cc): at the default
+  // shape weight (3) the real plans' shapes call a separate 4 m² kitchen a bedroom (R2V kitchens are mostly
+  // part of a living room).
+  options.shape_weight = 0;
   ASSERT_TRUE(SaveRoomTypeModel(model, options.model_path).ok());
   nlohmann::ordered_json summary;
   const Status st = RunRoomTypeStage(plan, rooms, views, {}, options, dir.string(), &summary);

@@ -69,6 +69,45 @@ RoomSegmentation TwoRooms(const FloorPlan& p, int split_x) {
   return r;
 }
 
+TEST(RoomTypeCrf, AdjacencyTermMovesAnAmbiguousRoomTowardsTheTypeItsNeighbourGoesWith) {
+  // Room 1 (two nodes): bathroom or bedroom alike; room 2 (two nodes): surely a laundry. Adjacency: bathroom
+  // beside a laundry +1.5, bedroom beside a laundry -1.5. No pair term.
+  RoomTypeGraph g;
+  g.width = 4, g.height = 1;
+  g.node_of_pixel = {0, 1, 2, 3};
+  g.position = {{0, 0}, {0.5, 0}, {1.0, 0}, {1.5, 0}};
+  g.segment = {1, 1, 2, 2};
+  g.pixels = {1, 1, 1, 1};
+  Dist ambiguous{}, laundry{};
+  ambiguous[0] = ambiguous[1] = 0.5;
+  laundry[6] = 1.0;
+  g.scene = {ambiguous, ambiguous, laundry, laundry};
+  g.objects.assign(4, {});
+  for (auto& o : g.objects)
+    for (auto& d : o) d.fill(0);
+  g.neighbours.assign(4, {});
+  g.pair_normaliser = 1;
+  const RoomTypeModel model = RoomTypeModel::Uninformative();
+  RoomTypeCrfOptions o;
+  o.variant = {ScenePotential::kCnn, HomogeneityPotential::kNone, false};
+  o.burn_in_sweeps = 20, o.sample_sweeps = 2000, o.seed = 3;
+  RoomTypeWeights w;
+  w.scene = 10.0;
+  auto bathroom_share = [&](double adjacency_weight) {
+    o.adjacency_weight = adjacency_weight;
+    const RoomTypeEnergy e{&g, &model, o.variant, w, o};
+    const auto m = GibbsMarginals(e, o);
+    return (m[0][0] + m[1][0]) / (m[0][0] + m[1][0] + m[0][1] + m[1][1]);
+  };
+  EXPECT_NEAR(bathroom_share(1.0), 0.5, 0.05) << "no neighbours given: no adjacency term";
+  g.room_neighbours = {{}, {2}, {1}};
+  g.adjacency[0][6] = g.adjacency[6][0] = 1.5;
+  g.adjacency[1][6] = g.adjacency[6][1] = -1.5;
+  EXPECT_NEAR(bathroom_share(0.0), 0.5, 0.05) << "weight 0: off";
+  // Room 1's nodes see the laundry's full share: odds exp(1.5 + 1.5) = 20 for the bathroom.
+  EXPECT_NEAR(bathroom_share(1.0), 20.0 / 21.0, 0.02);
+}
+
 TEST(RoomTypeCrf, GibbsMarginalsMatchExactEnumerationOnATinyModel) {
   RoomTypeGraph g;
   g.width = 4, g.height = 1;
