@@ -150,11 +150,9 @@ Status RunTrainRoomShapes(const TrainArgs& args) {
     size_t end = args.room_shape_features.find(',', start);
     if (end == std::string::npos) end = args.room_shape_features.size();
     const std::string name = args.room_shape_features.substr(start, end - start);
-    const auto& names = RoomShapeFeatureNames();
-    const auto it = std::find(names.begin(), names.end(), name);
-    if (it == names.end())
-      return Status::InvalidInput("--room-shape-features: unknown feature '" + name + "' (hint: `semvox train --help` lists them)");
-    features.push_back(int(it - names.begin()));
+    const int f = RoomShapeFeatureIndex(name);
+    if (f < 0) return Status::InvalidInput("--room-shape-features: unknown feature '" + name + "' (hint: `semvox train --help` lists them)");
+    features.push_back(f);
     start = end + 1;
   }
   if (features.empty())

@@ -25,6 +25,12 @@ const std::array<const char*, kRoomShapeFeatures>& RoomShapeFeatureNames() {
   return names;
 }
 
+int RoomShapeFeatureIndex(const std::string& name) {
+  const auto& names = RoomShapeFeatureNames();
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : int(it - names.begin());
+}
+
 namespace {
 
 // Per room (index id - 1): the share of its edge pixels (a 4-neighbour outside the room) with no pixel of
@@ -335,6 +341,16 @@ std::array<std::array<double, kRoomShapeTypes>, kRoomShapeTypes> TrainRoomAdjace
   return out;
 }
 
+void AddAdjacencyMessage(const std::array<std::array<double, kRoomShapeTypes>, kRoomShapeTypes>& adjacency,
+                         const std::array<double, kRoomShapeTypes>& neighbour_share, double weight,
+                         std::array<double, kRoomShapeTypes>* message) {
+  for (int y = 0; y < kRoomShapeTypes; ++y) {
+    double e = 0;
+    for (int t = 0; t < kRoomShapeTypes; ++t) e += neighbour_share[size_t(t)] * adjacency[size_t(y)][size_t(t)];
+    (*message)[size_t(y)] += weight * e;
+  }
+}
+
 std::vector<std::array<double, kRoomShapeTypes>> AdjacencyMessages(const RoomShapeModel& model,
                                                                    const std::vector<std::array<double, kRoomShapeTypes>>& log_evidence,
                                                                    const std::vector<std::vector<int>>& neighbours, double weight,
@@ -356,14 +372,8 @@ std::vector<std::array<double, kRoomShapeTypes>> AdjacencyMessages(const RoomSha
     std::vector<Dist> next(R, Dist{});
     for (size_t r = 0; r < R; ++r) {
       if (r >= neighbours.size()) continue;
-      for (const int s : neighbours[r]) {
-        if (s < 0 || size_t(s) >= R || size_t(s) == r) continue;
-        for (int y = 0; y < T; ++y) {
-          double e = 0;
-          for (int t = 0; t < T; ++t) e += q[size_t(s)][size_t(t)] * model.adjacency[size_t(y)][size_t(t)];
-          next[r][size_t(y)] += weight * e;
-        }
-      }
+      for (const int s : neighbours[r])
+        if (s >= 0 && size_t(s) < R && size_t(s) != r) AddAdjacencyMessage(model.adjacency, q[size_t(s)], weight, &next[r]);
     }
     for (size_t r = 0; r < R; ++r)
       for (int y = 0; y < T; ++y) message[r][size_t(y)] = 0.5 * message[r][size_t(y)] + 0.5 * next[r][size_t(y)];
@@ -417,10 +427,9 @@ Result<RoomShapeModel> LoadRoomShapeModel(const std::string& path) {
     if (!types.is_array() || types.size() != size_t(kRoomShapeTypes)) throw std::runtime_error("types: need 12 entries");
     m.features.clear();
     for (const auto& name : j.at("features")) {
-      const auto& names = RoomShapeFeatureNames();
-      const auto it = std::find(names.begin(), names.end(), name.get<std::string>());
-      if (it == names.end()) throw std::runtime_error("unknown feature " + name.get<std::string>());
-      m.features.push_back(int(it - names.begin()));
+      const int f = RoomShapeFeatureIndex(name.get<std::string>());
+      if (f < 0) throw std::runtime_error("unknown feature " + name.get<std::string>());
+      m.features.push_back(f);
     }
     if (m.features.empty()) throw std::runtime_error("features: none");
     const size_t F = m.features.size();

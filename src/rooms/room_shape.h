@@ -54,8 +54,9 @@ struct RoomShape {
 std::vector<RoomShape> MeasureRoomShapes(const ImageU16& ids, int num_rooms, double resolution_m,
                                      const std::vector<std::vector<int>>* connections = nullptr);
 
-// Names of RoomShape::Vector()'s entries, as the model files give them.
+// Names of RoomShape::Vector()'s entries, as the model files give them, and the index of one (-1: unknown).
 const std::array<const char*, kRoomShapeFeatures>& RoomShapeFeatureNames();
+int RoomShapeFeatureIndex(const std::string& name);
 
 // How far across a wall another room may lie for an edge pixel to count as interior (RoomShape::exterior_share).
 inline constexpr double kExteriorReachM = 0.6;
@@ -93,6 +94,11 @@ inline constexpr double kMaxAdjacency = 2.0;
 // TrainRoomShapeModel; a type beside itself is never below 0 (a segmentation may cut one room in two).
 std::array<std::array<double, kRoomShapeTypes>, kRoomShapeTypes> TrainRoomAdjacency(const std::vector<RoomShapeSample>& samples,
                                                                                      double pseudo_count = 1.0);
+
+// One neighbour's part of the adjacency message: message[y] += weight * sum_t neighbour_share[t] adjacency[y][t].
+void AddAdjacencyMessage(const std::array<std::array<double, kRoomShapeTypes>, kRoomShapeTypes>& adjacency,
+                         const std::array<double, kRoomShapeTypes>& neighbour_share, double weight,
+                         std::array<double, kRoomShapeTypes>* message);
 
 // Room-level mean field of the adjacency term: room r's types have log evidence `log_evidence[r]` (any
 // offset), rooms `neighbours[r]` (indices) are next to it; returns per room the message

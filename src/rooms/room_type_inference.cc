@@ -55,12 +55,8 @@ std::vector<Dist> GibbsMarginals(const RoomTypeEnergy& energy, const RoomTypeCrf
         for (double& v : d) v /= total;
     for (size_t r = 1; r < R; ++r) {
       message[r].fill(0);
-      for (const int o : g.room_neighbours[r]) {
-        if (o < 1 || size_t(o) >= R || size_t(o) == r) continue;
-        for (int y = 0; y < kRoomTypeLabels; ++y)
-          for (int t = 0; t < kRoomTypeLabels; ++t)
-            message[r][size_t(y)] += energy.options.adjacency_weight * share[size_t(o)][size_t(t)] * g.adjacency[size_t(y)][size_t(t)];
-      }
+      for (const int o : g.room_neighbours[r])
+        if (o >= 1 && size_t(o) < R && size_t(o) != r) AddAdjacencyMessage(g.adjacency, share[size_t(o)], energy.options.adjacency_weight, &message[r]);
     }
   };
   const int sweeps = options.burn_in_sweeps + options.sample_sweeps;

@@ -96,15 +96,15 @@ RoomShapeModel SyntheticModel() {
   for (int i = 0; i < 40; ++i) {
     RoomShape b = Square(4.0 * std::exp(n(rng)));
     b.aspect = 1.3 * std::exp(std::abs(n(rng)));
-    samples.push_back({1, b});  // Bathroom.
+    samples.push_back({1, b, {}});  // Bathroom.
     RoomShape l = Square(22.0 * std::exp(n(rng)));
     l.aspect = 1.3 * std::exp(std::abs(n(rng)));
-    samples.push_back({8, l});  // Living room.
+    samples.push_back({8, l, {}});  // Living room.
     RoomShape c = Square(12.0 * std::exp(n(rng)));
     c.aspect = 1.3 * std::exp(std::abs(n(rng)));
-    samples.push_back({2, c});  // Bedroom.
+    samples.push_back({2, c, {}});  // Bedroom.
   }
-  samples.push_back({6, Square(9)});  // A lone kitchen: too few to model.
+  samples.push_back({6, Square(9), {}});  // A lone kitchen: too few to model.
   return TrainRoomShapeModel(samples);
 }
 
@@ -265,8 +265,11 @@ TEST(R2vPlan, ShapeModelFromRealPlansTypesHeldOutRoomsAndMatchesTheShippedModel)
   for (double v : r.confusion_m2[0]) bath += v;
   EXPECT_GE(r.confusion_m2[0][0] / bath, 0.70) << r.ToText();
   ASSERT_EQ(r.adjacency_weights.size(), r.adjacency_area_accuracy.size());
-  for (size_t i = 0; i < r.adjacency_weights.size(); ++i)
-    if (r.adjacency_weights[i] == 0.5) EXPECT_GE(r.adjacency_area_accuracy[i], 0.80) << r.ToText();
+  for (size_t i = 0; i < r.adjacency_weights.size(); ++i) {
+    if (r.adjacency_weights[i] == 0.5) {
+      EXPECT_GE(r.adjacency_area_accuracy[i], 0.80) << r.ToText();
+    }
+  }
   std::string shipped;
   ASSERT_TRUE(ReadFileBytes(std::string(SEMVOX_SOURCE_DIR) + "/models/room_shape.json", &shipped).ok());
   EXPECT_EQ(RoomShapeModelToJson(*m), shipped) << "models/room_shape.json is stale: run `semvox train --room-shapes`";

@@ -69,15 +69,21 @@ RoomSegmentation TwoRooms(const FloorPlan& p, int split_x) {
   return r;
 }
 
-TEST(RoomTypeCrf, AdjacencyTermMovesAnAmbiguousRoomTowardsTheTypeItsNeighbourGoesWith) {
-  // Room 1 (two nodes): bathroom or bedroom alike; room 2 (two nodes): surely a laundry. Adjacency: bathroom
-  // beside a laundry +1.5, bedroom beside a laundry -1.5. No pair term.
+// Four nodes 0.5 m apart on one row of pixels, nodes 0-1 in room 1 and 2-3 in room 2, one pixel each.
+RoomTypeGraph FourNodesInTwoRooms() {
   RoomTypeGraph g;
   g.width = 4, g.height = 1;
   g.node_of_pixel = {0, 1, 2, 3};
   g.position = {{0, 0}, {0.5, 0}, {1.0, 0}, {1.5, 0}};
   g.segment = {1, 1, 2, 2};
   g.pixels = {1, 1, 1, 1};
+  return g;
+}
+
+TEST(RoomTypeCrf, AdjacencyTermMovesAnAmbiguousRoomTowardsTheTypeItsNeighbourGoesWith) {
+  // Room 1 (two nodes): bathroom or bedroom alike; room 2 (two nodes): surely a laundry. Adjacency: bathroom
+  // beside a laundry +1.5, bedroom beside a laundry -1.5. No pair term.
+  RoomTypeGraph g = FourNodesInTwoRooms();
   Dist ambiguous{}, laundry{};
   ambiguous[0] = ambiguous[1] = 0.5;
   laundry[6] = 1.0;
@@ -109,12 +115,7 @@ TEST(RoomTypeCrf, AdjacencyTermMovesAnAmbiguousRoomTowardsTheTypeItsNeighbourGoe
 }
 
 TEST(RoomTypeCrf, GibbsMarginalsMatchExactEnumerationOnATinyModel) {
-  RoomTypeGraph g;
-  g.width = 4, g.height = 1;
-  g.node_of_pixel = {0, 1, 2, 3};
-  g.position = {{0, 0}, {0.5, 0}, {1.0, 0}, {1.5, 0}};
-  g.segment = {1, 1, 2, 2};
-  g.pixels = {1, 1, 1, 1};
+  RoomTypeGraph g = FourNodesInTwoRooms();
   g.scene = {Peaked(0, 0.5), Peaked(1, 0.4), Peaked(1, 0.3), Dist{}};
   g.scene[3].fill(1.0 / kRoomTypeLabels);
   g.objects.assign(4, {});
