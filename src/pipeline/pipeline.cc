@@ -116,7 +116,7 @@ Status RoomsStage(const std::string& models_dir, PipelineResult* r) {
   r->rooms = SegmentRooms(r->plan, config.rooms);
   if (!r->labels) return Status::Ok();
   const ImageU16 topview = SemanticTopView(r->labels->map, r->map.grid, r->map.floor_z, config.occupancy.band_min_above_floor_m,
-                                           config.occupancy.band_max_above_floor_m);
+                                           config.occupancy.band_max_above_floor_m, config.room_types.min_object_confidence);
   RoomTypeCrfOptions rt = config.room_types;
   if (rt.model_path.empty()) rt.model_path = models_dir + "/room_type_crf.json";
   if (rt.shape_model_path.empty()) rt.shape_model_path = models_dir + "/room_shape.json";

@@ -101,7 +101,11 @@ Status TrainVoxelCrf(const VoxelCrfTrainingOptions& args) {
   VoxelCrfModel model = VoxelCrfModel::Default(nyu40, level.class_names);
   model.layout = LayoutPrior::FromCounts(K, layout_counts);
   std::vector<VoxelCrfTrainingExample> examples;
-  for (Item& it : items) examples.push_back(TrainingExample(it.map, it.evidence, config.semantic.crf, it.gt, model));
+  // The weights are learned on the layout prior as counted (as every shipped model was); dividing it by the
+  // class frequencies depends on the model's appearance weight, which learning is still choosing.
+  VoxelCrfOptions crf_options = config.semantic.crf;
+  crf_options.layout_frequency_power = 0;
+  for (Item& it : items) examples.push_back(TrainingExample(it.map, it.evidence, crf_options, it.gt, model));
   // Training error of the initial and the learned weights (plain inference, ground-truth visibility).
   auto training_error = [&](const std::array<double, kNumVoxelCrfWeights>& w) -> Result<double> {
     double sum = 0;

@@ -139,6 +139,10 @@ struct RoomTypeCrfOptions {
   double gauss_same_segment = 1.0;      // The cost of different types in one segment is its negative.
   double gauss_other_segment = 0.1;
   double object_sigma_m = 1.5;          // Eq. 5 o_i.
+  // The semantic top view the object term reads passes over voxels whose label confidence is lower (`semvox
+  // run`'s rooms stage; a label the Voxel-CRF barely prefers is as likely a wall misread as an object). 0.5
+  // goes with semantic.layout_frequency_power 1 (docs/voxelcrf.md); on its own it costs the plans 1.5 points.
+  double min_object_confidence = 0;
   int burn_in_sweeps = 20;
   int sample_sweeps = 100;
   uint64_t seed = 1;                    // Gibbs sampling order and draws.
@@ -169,6 +173,9 @@ struct RoomTypeCrfOptions {
                          "phi_gauss: reward for equal types in one segment"),
             OptionNumber(&O::gauss_other_segment, "gauss_other_segment", 0, 100, "", "phi_gauss: ... in different segments"),
             OptionNumber(&O::object_sigma_m, "object_sigma_m", 0.01, 50, "metres", "reach of an object's evidence"),
+            OptionNumber(&O::min_object_confidence, "min_object_confidence", 0, 1, "",
+                         "the object term reads the semantic top view without the voxels whose label confidence "
+                         "is lower"),
             OptionNumber(&O::burn_in_sweeps, "burn_in_sweeps", 0, 100000, "", "Gibbs sweeps discarded"),
             OptionNumber(&O::sample_sweeps, "sample_sweeps", 1, 1000000, "", "Gibbs sweeps counted into the marginals"),
             OptionNumber(&O::seed, "seed", 0, 4294967295.0, "", "seed of the Gibbs sampler"),

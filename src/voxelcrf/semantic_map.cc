@@ -132,13 +132,14 @@ Status WriteVoxelsPly(const SemanticMap& map, const std::string& path, const Eig
   return w.Write(path);
 }
 
-ImageU16 SemanticTopView(const SemanticMap& map, const VoxelGrid& grid, double floor_z, double band_min_m, double band_max_m) {
+ImageU16 SemanticTopView(const SemanticMap& map, const VoxelGrid& grid, double floor_z, double band_min_m, double band_max_m,
+                         double min_confidence) {
   const auto& d = grid.dims();
   ImageU16 img(d[0], d[1], 1, 0);
   std::vector<int> top(size_t(d[0]) * d[1], -1);
   const double lo = floor_z + band_min_m, hi = floor_z + band_max_m;
   for (const auto& r : map.occupied) {
-    if (r.centre.z() < lo || r.centre.z() >= hi) continue;
+    if (r.centre.z() < lo || r.centre.z() >= hi || r.confidence < min_confidence) continue;
     const auto c = grid.Cell(r.voxel);
     int& t = top[size_t(c[1]) * d[0] + c[0]];
     if (c[2] > t) t = c[2], img.at(c[0], d[1] - 1 - c[1]) = r.label;

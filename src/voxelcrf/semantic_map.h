@@ -57,7 +57,9 @@ Status WriteVoxelsPly(const SemanticMap& map, const std::string& path,
 
 // NYU40 label of the highest occupied voxel per column whose centre lies in [floor + band_min, floor +
 // band_max) metres, on the occupancy grid (width dims[0], height dims[1], row 0 = largest y); 0 = none.
-ImageU16 SemanticTopView(const SemanticMap& map, const VoxelGrid& grid, double floor_z, double band_min_m, double band_max_m);
+// Voxels whose label confidence is under min_confidence are passed over (the column shows the next one down).
+ImageU16 SemanticTopView(const SemanticMap& map, const VoxelGrid& grid, double floor_z, double band_min_m, double band_max_m,
+                         double min_confidence = 0);
 
 // The top view in colour: labels in their NYU40 display colours, free cells white, unknown grey (from the
 // refined occupancy image), with a legend of the labels present.

@@ -58,6 +58,7 @@ int LayoutPrior::NormalBin(const Eigen::Vector3f& n) {
 LayoutPrior LayoutPrior::FromCounts(int num_classes, const std::vector<double>& counts) {
   LayoutPrior p;
   p.num_classes = num_classes;
+  p.counts = counts;
   p.neg_log_p.assign(counts.size(), 0.f);
   const size_t cells = counts.size() / size_t(num_classes);
   for (size_t c = 0; c < cells; ++c) {
@@ -67,6 +68,55 @@ LayoutPrior LayoutPrior::FromCounts(int num_classes, const std::vector<double>& 
       p.neg_log_p[c * size_t(num_classes) + size_t(k)] = float(-std::log((counts[c * size_t(num_classes) + size_t(k)] + 1.0) / total));
   }
   return p;
+}
+
+bool LayoutPrior::RecoverCounts() {
+  counts.clear();
+  const size_t K = size_t(num_classes);
+  if (K == 0 || neg_log_p.empty() || neg_log_p.size() % K) return false;
+  std::vector<double> n(neg_log_p.size(), 0.0);
+  for (size_t c = 0; c < neg_log_p.size() / K; ++c) {
+    const float* row = &neg_log_p[c * K];
+    const float lo = *std::min_element(row, row + K), hi = *std::max_element(row, row + K);
+    if (hi - lo < 1e-6f) continue;  // A uniform cell: no voxel was counted there (or as many of each class).
+    const double total = std::exp(double(hi));  // n + K = 1 / min_k p.
+    for (size_t k = 0; k < K; ++k) {
+      const double v = std::exp(-double(row[k])) * total - 1.0;
+      if (std::fabs(v - std::round(v)) > 0.05 || std::round(v) < 0) return false;
+      n[c * K + k] = std::round(v);
+    }
+    // The cell's smallest count must be 0, else 1 / min_k p is not n + K.
+    if (*std::min_element(n.begin() + std::ptrdiff_t(c * K), n.begin() + std::ptrdiff_t((c + 1) * K)) != 0) return false;
+  }
+  counts = std::move(n);
+  return true;
+}
+
+std::vector<float> LayoutPrior::RatioCosts(double pseudo_count, double power) const {
+  const size_t K = size_t(num_classes);
+  if (K == 0 || counts.size() != neg_log_p.size() || counts.empty()) return {};
+  const size_t cells = counts.size() / K;
+  std::vector<double> share(K, 0.0);
+  double all = 0;
+  for (size_t i = 0; i < counts.size(); ++i) share[i % K] += counts[i], all += counts[i];
+  if (all <= 0) return {};
+  for (double& v : share) v = std::max(v / all, 1e-6);
+  std::vector<float> out(counts.size());
+  for (size_t c = 0; c < cells; ++c) {
+    double n = 0;
+    for (size_t k = 0; k < K; ++k) n += counts[c * K + k];
+    double lo = std::numeric_limits<double>::infinity();
+    std::vector<double> r(K);
+    for (size_t k = 0; k < K; ++k) {
+      const double p = (counts[c * K + k] + pseudo_count * share[k]) / std::max(n + pseudo_count, 1e-12);
+      r[k] = -std::log(std::max(p, 1e-12)) + power * std::log(share[k]);
+      lo = std::min(lo, r[k]);
+    }
+    const float* row = &neg_log_p[c * K];
+    const double keep = *std::min_element(row, row + K);
+    for (size_t k = 0; k < K; ++k) out[c * K + k] = float(r[k] - lo + keep);
+  }
+  return out;
 }
 
 VoxelCrfModel VoxelCrfModel::Default(std::vector<int> nyu40_of_class, std::vector<std::string> class_names) {
@@ -101,6 +151,10 @@ Status VoxelCrfModel::Save(const std::string& path) const {
   for (int k = 0; k < num_classes(); ++k) os << k << ' ' << nyu40_of_class[size_t(k)] << ' ' << class_names[size_t(k)] << '\n';
   os << "layout " << layout.neg_log_p.size() << '\n';
   for (size_t i = 0; i < layout.neg_log_p.size(); ++i) os << layout.neg_log_p[i] << ((i + 1) % size_t(std::max(1, num_classes())) ? ' ' : '\n');
+  if (!layout.counts.empty() && layout.counts.size() == layout.neg_log_p.size()) {
+    os << "layout_counts " << layout.counts.size() << '\n';
+    for (size_t i = 0; i < layout.counts.size(); ++i) os << layout.counts[i] << ((i + 1) % size_t(std::max(1, num_classes())) ? ' ' : '\n');
+  }
   return WriteFileAtomic(path, os.str());
 }
 
@@ -142,6 +196,15 @@ Result<VoxelCrfModel> VoxelCrfModel::Load(const std::string& path) {
   m.layout.neg_log_p.resize(cells);
   for (float& v : m.layout.neg_log_p)
     if (!(is >> v) || !std::isfinite(v)) return bad("layout prior value missing or not a number");
+  size_t counted = 0;
+  if (is >> word) {
+    if (word != "layout_counts" || !(is >> counted) || counted != cells) return bad("expected 'layout_counts " + std::to_string(cells) + "' after the layout prior");
+    m.layout.counts.resize(counted);
+    for (double& v : m.layout.counts)
+      if (!(is >> v) || !std::isfinite(v) || v < 0) return bad("layout count missing, negative or not a number");
+  } else {
+    m.layout.RecoverCounts();  // Older files; without counts the ratio form falls back to the frequency form.
+  }
   return m;
 }
 
@@ -325,6 +388,13 @@ VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes&
   if (options.keep_scan_points && nodes.holds_point.size() == size_t(n)) p.keep_occupied = nodes.holds_point;
   std::vector<uint8_t> visible(size_t(n), 0);
   const bool have_layout = !model.layout.neg_log_p.empty() && model.layout.num_classes == K;
+  // The prior divided by a power of the class frequencies (VoxelCrfOptions::layout_frequency_power).
+  const std::vector<float> ratio = have_layout && options.layout_frequency_power > 0
+                                       ? model.layout.RatioCosts(options.layout_pseudo_count, options.layout_frequency_power)
+                                       : std::vector<float>{};
+  // (Every node, hidden ones too: their labels come from their visible neighbours' posteriors through the
+  // pairwise terms, and the frequency form would pull them back to wall.)
+  const bool appearance_counts = model.w[kWAppearance] >= VoxelCrfOptions::kEvidenceWeight;
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096), [&](const tbb::blocked_range<int>& r) {
     for (int i = r.begin(); i != r.end(); ++i) {
       const size_t s = size_t(i);
@@ -345,7 +415,9 @@ VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes&
         const auto c = grid.Cell(nodes.voxel[s]);
         const int hb = LayoutPrior::HeightBin(grid.CellCenter(c[0], c[1], c[2]).z(), floor_z, ceiling_z);
         const int nb = LayoutPrior::NormalBin(ev.normal[s]);
-        for (int k = 0; k < K; ++k) p.f_layout[s * K + k] = model.layout.Cost(hb, nb, k);
+        const bool by_ratio = !ratio.empty() && appearance_counts;
+        const float* row = by_ratio ? &ratio[(size_t(hb) * LayoutPrior::kNormalBins + size_t(nb)) * size_t(K)] : nullptr;
+        for (int k = 0; k < K; ++k) p.f_layout[s * K + k] = row ? row[k] : model.layout.Cost(hb, nb, k);
       }
     }
   });

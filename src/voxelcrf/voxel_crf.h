@@ -78,6 +78,9 @@ struct LayoutPrior {
   static constexpr int kHeightBins = 30, kNormalBins = 4;
   int num_classes = 0;
   std::vector<float> neg_log_p;  // [(height_bin * kNormalBins + normal_bin) * K + class]; empty = uniform.
+  // The training voxels behind neg_log_p, same layout (empty when unknown). Model files written before
+  // 2026-12-04 hold only neg_log_p; Load recovers the counts from it (RecoverCounts).
+  std::vector<double> counts;
   static int HeightBin(double z, double floor_z, double ceiling_z);
   static int NormalBin(const Eigen::Vector3f& normal);  // 0 none, 1 up, 2 down, 3 sideways
   float Cost(int height_bin, int normal_bin, int cls) const {
@@ -85,7 +88,22 @@ struct LayoutPrior {
   }
   // From counts (same layout as neg_log_p), with add-one smoothing.
   static LayoutPrior FromCounts(int num_classes, const std::vector<double>& counts);
+  // Inverts the add-one smoothing: in a cell with n voxels, p_k = (n_k + 1) / (n + K), so a class never seen
+  // there has the cell's smallest p and n + K = 1 / min_k p. Exact (to the file's 9 digits) when every cell
+  // has a class it never saw, as both shipped models do (22 classes, 120 cells); false and counts left empty
+  // when a non-uniform cell has none, or the recovered counts are not whole numbers within 0.05.
+  bool RecoverCounts();
+  // The prior divided by a power of the class frequencies, for voxels whose label evidence is already a
+  // classifier's posterior (which carries the class frequencies of its own training set):
+  // -log(P~(s | cell) / P(s)^power), with P(s) the classes' share over all cells and
+  // P~(s | cell) = (n_s + m P(s)) / (n + m), the cell's frequencies shrunk towards P(s) by m pseudo-voxels (a
+  // sparsely filled cell says little). power 1 is the ratio P(s | cell) / P(s), which no longer prefers a
+  // class for being common; between 0 and 1 the preference is tempered. Each cell is then shifted so that its
+  // cheapest class costs what it costs in neg_log_p: the occupied-versus-empty balance stays as learned.
+  // Empty when counts are unknown.
+  std::vector<float> RatioCosts(double pseudo_count, double power) const;
 };
+
 
 struct VoxelCrfModel {
   std::array<double, kNumVoxelCrfWeights> w{};
@@ -114,6 +132,19 @@ struct VoxelCrfOptions {
   // furniture first, because its depth and density evidence is weak. Disc-splat voxels without a point may
   // still be emptied.
   bool keep_scan_points = true;
+  // The layout prior P(s | height, normal) holds the classes' frequencies: walls are most of every vertical
+  // surface at every height. When the labels come from the per-view classifiers (the model's appearance
+  // weight at least kEvidenceWeight: the mesh model), whose posteriors carry their own class frequencies,
+  // multiplying the two counts the frequencies twice and turns furniture standing against a wall into wall.
+  // The prior is then divided by P(s)^layout_frequency_power on every node (LayoutPrior::RatioCosts; 0: as
+  // learned). A model whose labels come from the layout itself and the object segments (the point-cloud
+  // model, appearance weight ~0) keeps the prior as learned: its walls and floors have no other evidence
+  // (docs/voxelcrf.md: measured both ways). Off by default: at 1 the generated apartments' labels gain
+  // (mean recall 0.25 -> 0.32) but a turned and shifted copy of an apartment gains less than the original,
+  // 3 points apart where the canonical frame's test allows 2 (docs/voxelcrf.md).
+  double layout_frequency_power = 0;
+  double layout_pseudo_count = 200;  // m of LayoutPrior::RatioCosts, voxels.
+  static constexpr double kEvidenceWeight = 0.01;
   PlaneDetectionOptions planes;
   // One alpha-expansion sweep over the labels per iteration: sweeps after the first lower the Voxel-CRF energy
   // by 1e-4 - 1e-7 of |E| on generated apartments (the 91 m2 flat of seed 106: the first sweep 6e-2, the second
@@ -154,6 +185,13 @@ struct VoxelCrfOptions {
             OptionSwitch(&O::keep_scan_points, "keep_scan_points",
                          "point clouds: voxels holding an input point stay occupied (the Voxel-CRF labels them but "
                          "does not empty them)"),
+            OptionNumber(&O::layout_frequency_power, "layout_frequency_power", 0, 1, "",
+                         "when the Voxel-CRF model trusts the per-view classifiers (the mesh model), the layout prior "
+                         "P(class | height, normal) is divided by P(class)^this: 0 keeps it as learned, 1 is the ratio "
+                         "that no longer favours a class for being common (docs/voxelcrf.md)"),
+            OptionNumber(&O::layout_pseudo_count, "layout_pseudo_count", 0, 1e9, "voxels",
+                         "layout prior divided by the class frequency: pseudo-voxels that shrink each height / normal cell's class "
+                         "frequencies towards the overall ones"),
         },
         NestedOptions(&O::planes, PlaneDetectionOptions::Options()),
     });

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <random>
 
 #include "core/labels.h"
@@ -507,41 +509,64 @@ TEST(VoxelCrfProblem, ParallelBuildEqualsPlainSerialPasses) {
   }
 }
 
-TEST(VoxelCrf, PlaneCompletionLabelsTheWallBehindACabinetAsWall) {
+// The cabinet room mapped, rendered and classified by a stand-in per-view classifier that gives every pixel's
+// true class the probability p_true and spreads the rest evenly over the other classes.
+struct ClassifiedCabinetRoom {
   CabinetRoom room = MakeCabinetRoom();
-  const Scene scene = MeshScene(room.mesh);
-  const VoxelMap map = MapOf(scene);
-  const VoxelGrid& g = map.grid;
-  const LabelLevel level = SecondLevel();
-  const int K = level.num_classes();
-  const VoxelCrfNodes nodes = SelectVoxelCrfNodes(g, map.floor_z, map.ceiling_z, VoxelEvidenceOptions{});
-  EvidenceAccumulator acc(g, nodes, K, VoxelEvidenceOptions{});
-  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
-  ASSERT_TRUE(renderer.ok());
+  Scene scene = MeshScene(room.mesh);
+  VoxelMap map = MapOf(scene);
+  LabelLevel level = SecondLevel();
+  VoxelCrfNodes nodes;
+  VoxelEvidence ev;
+  int K() const { return level.num_classes(); }
+  VoxelCrfModel DefaultModel() const {
+    std::vector<int> nyu40;
+    for (const std::string& name : level.class_names) nyu40.push_back(name == "other" ? nyu40::kOtherProp : Nyu40IdByName(name));
+    return VoxelCrfModel::Default(nyu40, level.class_names);
+  }
+};
+
+std::unique_ptr<ClassifiedCabinetRoom> ClassifyCabinetRoom(float p_true) {
+  auto r = std::make_unique<ClassifiedCabinetRoom>();
+  const VoxelGrid& g = r->map.grid;
+  const int K = r->K();
+  r->nodes = SelectVoxelCrfNodes(g, r->map.floor_z, r->map.ceiling_z, VoxelEvidenceOptions{});
+  EvidenceAccumulator acc(g, r->nodes, K, VoxelEvidenceOptions{});
+  Result<ViewRenderer> renderer = ViewRenderer::Create(r->scene);
+  EXPECT_TRUE(renderer.ok());
+  if (!renderer.ok()) return r;
   ViewsOptions vo;
   vo.width = 160;
   vo.height = 120;
   vo.tilted_ring_deg = 40;  // Floor and ceiling near the viewpoints too.
-  const std::vector<int32_t>& face_label = scene.mesh.face_attributes.at("label");
-  // Classification: the true class of each pixel with probability 0.7 (what a decent per-view classifier gives).
-  Result<ViewSet> views = RenderViews(*renderer, map, vo, [&](const ViewRecord& r, const RenderedView& view) {
-    if (!r.kept()) return Status::Ok();
+  const std::vector<int32_t>& face_label = r->scene.mesh.face_attributes.at("label");
+  Result<ViewSet> views = RenderViews(*renderer, r->map, vo, [&](const ViewRecord& rec, const RenderedView& view) {
+    if (!rec.kept()) return Status::Ok();
     acc.AddDepthView(view);
-    std::vector<float> probs(size_t(view.camera.width) * view.camera.height * K, 0.3f / float(K - 1));
+    std::vector<float> probs(size_t(view.camera.width) * view.camera.height * K, (1.f - p_true) / float(K - 1));
     for (int y = 0; y < view.camera.height; ++y)
       for (int x = 0; x < view.camera.width; ++x)
         if (view.hit(x, y)) {
-          const int cls = level.class_of_nyu40[size_t(face_label[size_t(view.primitive.at(x, y))])];
-          probs[(size_t(y) * view.camera.width + x) * K + size_t(cls)] = 0.7f;
+          const int cls = r->level.class_of_nyu40[size_t(face_label[size_t(view.primitive.at(x, y))])];
+          probs[(size_t(y) * view.camera.width + x) * K + size_t(cls)] = p_true;
         }
     acc.AddClassifiedView(view, nullptr, probs);
     return Status::Ok();
   });
-  ASSERT_TRUE(views.ok()) << views.status().message();
-  const VoxelEvidence ev = std::move(acc).Finish();
-  std::vector<int> nyu40;
-  for (const std::string& name : level.class_names) nyu40.push_back(name == "other" ? nyu40::kOtherProp : Nyu40IdByName(name));
-  const VoxelCrfModel model = VoxelCrfModel::Default(nyu40, level.class_names);
+  EXPECT_TRUE(views.ok()) << views.status().message();
+  r->ev = std::move(acc).Finish();
+  return r;
+}
+
+TEST(VoxelCrf, PlaneCompletionLabelsTheWallBehindACabinetAsWall) {
+  // Classification: the true class of each pixel with probability 0.7 (what a decent per-view classifier gives).
+  const std::unique_ptr<ClassifiedCabinetRoom> cr = ClassifyCabinetRoom(0.7f);
+  const VoxelMap& map = cr->map;
+  const VoxelGrid& g = map.grid;
+  const LabelLevel& level = cr->level;
+  const VoxelCrfNodes& nodes = cr->nodes;
+  const VoxelEvidence& ev = cr->ev;
+  const VoxelCrfModel model = cr->DefaultModel();
   VoxelCrfResult result;
   ASSERT_TRUE(SolveVoxelCrf(g, nodes, ev, map.floor_z, map.ceiling_z, model, VoxelCrfOptions{}, &result).ok());
   // Energy never rises within an expansion sweep (the solver records one value per sweep).
@@ -571,6 +596,159 @@ TEST(VoxelCrf, PlaneCompletionLabelsTheWallBehindACabinetAsWall) {
   size_t completed_wall = 0;
   for (const auto& r : sm.occupied) completed_wall += r.completed && r.label == nyu40::kWall && CabinetRoom::BehindCabinet(r.centre.cast<double>());
   EXPECT_EQ(completed_wall, behind_wall);
+}
+
+// Layout counts for K classes (wall 0, floor 1, cabinet 2, the rest never seen): sideways and normal-less
+// cells 95 wall : 5 cabinet, upward cells all floor, downward cells all ceiling-less (empty).
+std::vector<double> WallDominatedLayoutCounts(int K) {
+  std::vector<double> counts(size_t(LayoutPrior::kHeightBins) * LayoutPrior::kNormalBins * size_t(K), 0.0);
+  for (int h = 0; h < LayoutPrior::kHeightBins; ++h)
+    for (int n = 0; n < LayoutPrior::kNormalBins; ++n) {
+      double* c = &counts[(size_t(h) * LayoutPrior::kNormalBins + size_t(n)) * size_t(K)];
+      if (n == 0 || n == 3) c[0] = 95, c[2] = 5;
+      if (n == 1) c[1] = 100;
+    }
+  return counts;
+}
+
+TEST(LayoutPrior, RatioFormDividesOutTheClassFrequencies) {
+  const int K = 4;
+  const LayoutPrior prior = LayoutPrior::FromCounts(K, WallDominatedLayoutCounts(K));
+  const int sideways = 3, up = 1;
+  // Frequency form: wall is log(96 / 6) cheaper than cabinet on every vertical surface.
+  EXPECT_NEAR(prior.Cost(5, sideways, 2) - prior.Cost(5, sideways, 0), std::log(96.0 / 6.0), 1e-5);
+  // Ratio form without shrinkage: the sideways cells hold wall and cabinet in the same proportion as the whole
+  // room does, so neither is favoured; floor and the never-seen class cost more; the cheapest class costs
+  // what it costs in the frequency form.
+  const std::vector<float> r0 = prior.RatioCosts(0.0, 1.0);
+  ASSERT_EQ(r0.size(), prior.neg_log_p.size());
+  auto at = [&](const std::vector<float>& r, int h, int n, int k) { return r[(size_t(h) * LayoutPrior::kNormalBins + size_t(n)) * K + size_t(k)]; };
+  EXPECT_NEAR(at(r0, 5, sideways, 0), at(r0, 5, sideways, 2), 1e-5);
+  EXPECT_GT(at(r0, 5, sideways, 1), at(r0, 5, sideways, 0) + 5.0);
+  EXPECT_NEAR(at(r0, 5, sideways, 0), prior.Cost(5, sideways, 0), 1e-5);
+  EXPECT_NEAR(at(r0, 0, up, 1), prior.Cost(0, up, 1), 1e-5);
+  // A cell where the cabinet is over-represented (50 : 50 against 95 : 5 overall) favours it by
+  // log((0.5 / 0.0475) / (0.5 / 0.9025)) - a share computed over all cells.
+  std::vector<double> counts = WallDominatedLayoutCounts(K);
+  double* cell = &counts[(size_t(7) * LayoutPrior::kNormalBins + sideways) * K];
+  cell[0] = 50, cell[2] = 50;
+  const LayoutPrior skewed = LayoutPrior::FromCounts(K, counts);
+  double wall = 0, cab = 0, all = 0;
+  for (size_t i = 0; i < counts.size(); ++i) wall += i % K == 0 ? counts[i] : 0, cab += i % K == 2 ? counts[i] : 0, all += counts[i];
+  const std::vector<float> r1 = skewed.RatioCosts(0.0, 1.0);
+  EXPECT_NEAR(at(r1, 7, sideways, 0) - at(r1, 7, sideways, 2), std::log((0.5 / (cab / all)) / (0.5 / (wall / all))), 1e-4);
+  // Powers between 0 and 1 temper the division: the cabinet's advantage is linear in the power (without
+  // pseudo-voxels power 0 is the unsmoothed frequency form).
+  const std::vector<float> half = skewed.RatioCosts(0.0, 0.5), none = skewed.RatioCosts(0.0, 0.0);
+  const double d1 = at(r1, 7, sideways, 0) - at(r1, 7, sideways, 2), d0 = at(none, 7, sideways, 0) - at(none, 7, sideways, 2);
+  EXPECT_NEAR(d0, 0.0, 1e-5);  // 50 : 50 in that cell.
+  EXPECT_NEAR(at(half, 7, sideways, 0) - at(half, 7, sideways, 2), 0.5 * (d0 + d1), 1e-4);
+  // Pseudo-voxels shrink a cell towards the overall shares: with m = 1e6 the 100 voxels of the skewed cell
+  // barely count.
+  const std::vector<float> r2 = skewed.RatioCosts(1e6, 1.0);
+  EXPECT_LT(std::fabs(at(r2, 7, sideways, 0) - at(r2, 7, sideways, 2)), 0.01);
+  // Without counts there is no ratio form.
+  LayoutPrior bare = prior;
+  bare.counts.clear();
+  EXPECT_TRUE(bare.RatioCosts(200, 1.0).empty());
+}
+
+TEST(LayoutPrior, CountsAreRecoveredFromModelFilesThatDoNotHoldThem) {
+  const int K = 5;
+  std::mt19937_64 rng(11);
+  std::vector<double> counts(size_t(LayoutPrior::kHeightBins) * LayoutPrior::kNormalBins * K, 0.0);
+  for (size_t c = 0; c < counts.size() / K; ++c)
+    for (int k = 1; k < K; ++k) counts[c * K + size_t(k)] = double(rng() % 5000);  // Class 0 never seen.
+  for (int k = 0; k < K; ++k) counts[size_t(k)] = 0;                                // One empty cell.
+  testing::ScratchDir dir("layout_counts");
+  VoxelCrfModel m = VoxelCrfModel::Default({1, 2, 3, 4, 40}, {"wall", "floor", "cabinet", "bed", "other"});
+  m.layout = LayoutPrior::FromCounts(K, counts);
+  ASSERT_TRUE(m.Save(dir.File("with.txt")).ok());
+  m.layout.counts.clear();  // As files written before the counts were saved.
+  ASSERT_TRUE(m.Save(dir.File("without.txt")).ok());
+  EXPECT_EQ(testing::ReadText(dir.File("without.txt")).find("layout_counts"), std::string::npos);
+  for (const char* name : {"with.txt", "without.txt"}) {
+    Result<VoxelCrfModel> back = VoxelCrfModel::Load(dir.File(name));
+    ASSERT_TRUE(back.ok()) << back.status().message();
+    EXPECT_EQ(back->layout.counts, counts) << name;
+  }
+  // A cell in which every class was seen gives no way back: the counts stay unknown.
+  std::vector<double> seen(counts.size());
+  for (size_t i = 0; i < seen.size(); ++i) seen[i] = double(std::vector<int>{2, 3, 7, 11, 20}[i % K]);
+  LayoutPrior full = LayoutPrior::FromCounts(K, seen);
+  full.counts.clear();
+  EXPECT_FALSE(full.RecoverCounts());
+  EXPECT_TRUE(full.counts.empty());
+  // The shipped models were written before the counts were saved: theirs come back whole, and smoothing
+  // them again gives the file's prior.
+  for (const char* shipped : {"voxel_crf.txt", "voxel_crf_cloud.txt"}) {
+    Result<VoxelCrfModel> s = VoxelCrfModel::Load(std::string(SEMVOX_SOURCE_DIR) + "/models/" + shipped);
+    ASSERT_TRUE(s.ok()) << s.status().message();
+    ASSERT_EQ(s->layout.counts.size(), s->layout.neg_log_p.size()) << shipped;
+    const LayoutPrior again = LayoutPrior::FromCounts(s->num_classes(), s->layout.counts);
+    for (size_t i = 0; i < again.neg_log_p.size(); ++i) ASSERT_NEAR(again.neg_log_p[i], s->layout.neg_log_p[i], 1e-5) << shipped << " " << i;
+  }
+}
+
+// A per-view classifier that is right with probability 0.6 and a layout prior in which walls are 95 % of
+// every vertical surface. The classifier's posterior already carries its class frequencies; multiplied by
+// the frequency form of the prior, the wall's share is counted twice and the cabinet's front is lost (wall or emptied).
+// The ratio form keeps it a cabinet and the walls walls.
+TEST(VoxelCrf, RatioLayoutPriorKeepsACabinetFrontThatTheFrequencyFormLoses) {
+  const std::unique_ptr<ClassifiedCabinetRoom> cr = ClassifyCabinetRoom(0.6f);
+  const VoxelGrid& g = cr->map.grid;
+  VoxelCrfModel model = cr->DefaultModel();
+  const int wall = cr->level.class_of_nyu40[nyu40::kWall], floor = cr->level.class_of_nyu40[nyu40::kFloor];
+  const int cab = cr->level.class_of_nyu40[nyu40::kCabinet];
+  std::vector<double> counts(size_t(LayoutPrior::kHeightBins) * LayoutPrior::kNormalBins * size_t(cr->K()), 0.0);
+  const std::vector<double> three = WallDominatedLayoutCounts(3);
+  for (size_t c = 0; c < counts.size() / size_t(cr->K()); ++c) {
+    counts[c * size_t(cr->K()) + size_t(wall)] = three[c * 3 + 0];
+    counts[c * size_t(cr->K()) + size_t(floor)] = three[c * 3 + 1];
+    counts[c * size_t(cr->K()) + size_t(cab)] = three[c * 3 + 2];
+  }
+  model.layout = LayoutPrior::FromCounts(cr->K(), counts);
+  model.w[kWLayout] = 2.0;
+  auto solve = [&](double power, double* front_cabinet, double* wall_wall) {
+    VoxelCrfOptions o;
+    o.layout_frequency_power = power;
+    VoxelCrfResult result;
+    ASSERT_TRUE(SolveVoxelCrf(g, cr->nodes, cr->ev, cr->map.floor_z, cr->map.ceiling_z, model, o, &result).ok());
+    size_t front = 0, front_cab = 0, walls = 0, walls_wall = 0;
+    for (size_t i = 0; i < cr->nodes.size(); ++i) {
+      const auto c = g.Cell(cr->nodes.voxel[i]);
+      const V p = g.CellCenter(c[0], c[1], c[2]);
+      if (cr->nodes.initial_state[i] != uint8_t(VoxelState::kOccupied)) continue;  // The scanned surface's voxels.
+      if (p.y() > 0.45 && p.y() < 0.55 && p.x() > 1.6 && p.x() < 2.4 && p.z() > 0.2 && p.z() < 1.4) {
+        ++front;
+        front_cab += result.labels[i] == cab + 1;
+      }
+      if (p.y() > 2.95 && p.y() < 3.05 && p.x() > 0.2 && p.x() < 3.8 && p.z() > 0.2 && p.z() < 2.3) {  // North wall.
+        ++walls;
+        walls_wall += result.labels[i] == wall + 1;
+      }
+    }
+    ASSERT_GT(front, 100u);
+    ASSERT_GT(walls, 500u);
+    *front_cabinet = double(front_cab) / double(front);
+    *wall_wall = double(walls_wall) / double(walls);
+  };
+  double freq_front = 0, freq_wall = 0, ratio_front = 0, ratio_wall = 0;
+  solve(0.0, &freq_front, &freq_wall);
+  solve(1.0, &ratio_front, &ratio_wall);
+  EXPECT_LT(freq_front, 0.1) << "frequency form: share of the cabinet's front labelled cabinet (the rest is wall or emptied)";
+  EXPECT_GT(ratio_front, 0.9) << "ratio form: share of the cabinet's front labelled cabinet";
+  EXPECT_GT(freq_wall, 0.95);
+  EXPECT_GT(ratio_wall, 0.95);
+  // A model that does not trust the per-view classifiers (the point-cloud model) keeps the frequency form.
+  model.w[kWAppearance] = 0.5 * VoxelCrfOptions::kEvidenceWeight;
+  VoxelCrfOptions ratio;
+  ratio.layout_frequency_power = 1;
+  const VoxelCrfProblem a = BuildVoxelCrfProblem(g, cr->nodes, cr->ev, cr->map.floor_z, cr->map.ceiling_z, model, {}, ratio, std::vector<int32_t>(cr->ev.rays.size(), -1));
+  VoxelCrfOptions freq;
+  freq.layout_frequency_power = 0;
+  const VoxelCrfProblem b = BuildVoxelCrfProblem(g, cr->nodes, cr->ev, cr->map.floor_z, cr->map.ceiling_z, model, {}, freq, std::vector<int32_t>(cr->ev.rays.size(), -1));
+  EXPECT_EQ(a.f_layout, b.f_layout);
 }
 
 // The cabinet room as a sparse real scan delivers it: points scattered over the surfaces at random, about
@@ -648,6 +826,31 @@ TEST(VoxelCrf, SparseCloudKeepsEveryVoxelThatHoldsAPoint) {
   const size_t without = occupied_points(false);
   std::printf("voxels holding points: %zu; occupied without keep_scan_points: %zu\n", holding, without);
   EXPECT_LT(double(without), 0.9 * double(holding)) << without << " of " << holding << " point voxels occupied without the option";
+}
+
+// The top view shows each column's highest voxel in the band; with a confidence floor it passes over the
+// voxels whose label the Voxel-CRF barely preferred.
+TEST(SemanticExports, TopViewPassesOverLabelsBelowTheConfidenceFloor) {
+  const VoxelGrid grid(0.05, {32768, 32768, 32768}, {2, 1, 20});
+  SemanticMap m;
+  auto add = [&](int x, int z, uint16_t label, float confidence) {
+    SemanticVoxelRecord r;
+    r.voxel = uint32_t(grid.Index(x, 0, z));
+    r.centre = grid.CellCenter(x, 0, z).cast<float>();
+    r.label = label;
+    r.confidence = confidence;
+    m.occupied.push_back(r);
+  };
+  const double floor_z = grid.CellCenter(0, 0, 0).z() - 0.025;
+  add(0, 8, nyu40::kTable, 0.9f);     // 0.4 m above the floor.
+  add(0, 14, nyu40::kCounter, 0.2f);  // 0.7 m: on top, barely preferred.
+  add(1, 10, nyu40::kBed, 0.3f);
+  const ImageU16 all = SemanticTopView(m, grid, floor_z, 0.1, 2.0);
+  EXPECT_EQ(all.at(0, 0), nyu40::kCounter);
+  EXPECT_EQ(all.at(1, 0), nyu40::kBed);
+  const ImageU16 sure = SemanticTopView(m, grid, floor_z, 0.1, 2.0, 0.35);
+  EXPECT_EQ(sure.at(0, 0), nyu40::kTable);
+  EXPECT_EQ(sure.at(1, 0), 0);
 }
 
 TEST(SemanticExports, VoxelsPlyAndSemanticOctreeRoundTrip) {
