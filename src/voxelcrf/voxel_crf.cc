@@ -102,11 +102,11 @@ std::vector<float> LayoutPrior::RatioCosts(double pseudo_count, double power) co
   if (all <= 0) return {};
   for (double& v : share) v = std::max(v / all, 1e-6);
   std::vector<float> out(counts.size());
+  std::vector<double> r(K);
   for (size_t c = 0; c < cells; ++c) {
     double n = 0;
     for (size_t k = 0; k < K; ++k) n += counts[c * K + k];
     double lo = std::numeric_limits<double>::infinity();
-    std::vector<double> r(K);
     for (size_t k = 0; k < K; ++k) {
       const double p = (counts[c * K + k] + pseudo_count * share[k]) / std::max(n + pseudo_count, 1e-12);
       r[k] = -std::log(std::max(p, 1e-12)) + power * std::log(share[k]);
@@ -149,12 +149,12 @@ Status VoxelCrfModel::Save(const std::string& path) const {
   for (double v : w) os << ' ' << v;
   os << "\nclasses " << num_classes() << '\n';
   for (int k = 0; k < num_classes(); ++k) os << k << ' ' << nyu40_of_class[size_t(k)] << ' ' << class_names[size_t(k)] << '\n';
-  os << "layout " << layout.neg_log_p.size() << '\n';
-  for (size_t i = 0; i < layout.neg_log_p.size(); ++i) os << layout.neg_log_p[i] << ((i + 1) % size_t(std::max(1, num_classes())) ? ' ' : '\n');
-  if (!layout.counts.empty() && layout.counts.size() == layout.neg_log_p.size()) {
-    os << "layout_counts " << layout.counts.size() << '\n';
-    for (size_t i = 0; i < layout.counts.size(); ++i) os << layout.counts[i] << ((i + 1) % size_t(std::max(1, num_classes())) ? ' ' : '\n');
-  }
+  auto table = [&](const char* name, const auto& values) {  // One cell (K values) per line.
+    os << name << ' ' << values.size() << '\n';
+    for (size_t i = 0; i < values.size(); ++i) os << values[i] << ((i + 1) % size_t(std::max(1, num_classes())) ? ' ' : '\n');
+  };
+  table("layout", layout.neg_log_p);
+  if (!layout.counts.empty() && layout.counts.size() == layout.neg_log_p.size()) table("layout_counts", layout.counts);
   return WriteFileAtomic(path, os.str());
 }
 
@@ -388,13 +388,13 @@ VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes&
   if (options.keep_scan_points && nodes.holds_point.size() == size_t(n)) p.keep_occupied = nodes.holds_point;
   std::vector<uint8_t> visible(size_t(n), 0);
   const bool have_layout = !model.layout.neg_log_p.empty() && model.layout.num_classes == K;
-  // The prior divided by a power of the class frequencies (VoxelCrfOptions::layout_frequency_power).
-  const std::vector<float> ratio = have_layout && options.layout_frequency_power > 0
-                                       ? model.layout.RatioCosts(options.layout_pseudo_count, options.layout_frequency_power)
-                                       : std::vector<float>{};
-  // (Every node, hidden ones too: their labels come from their visible neighbours' posteriors through the
-  // pairwise terms, and the frequency form would pull them back to wall.)
-  const bool appearance_counts = model.w[kWAppearance] >= VoxelCrfOptions::kEvidenceWeight;
+  // The prior divided by a power of the class frequencies (VoxelCrfOptions::layout_frequency_power) when the
+  // model trusts the per-view classifiers; on every node, hidden ones too: their labels come from their
+  // visible neighbours' posteriors through the pairwise terms, and the learned prior would pull them back to wall.
+  const std::vector<float> ratio =
+      have_layout && options.layout_frequency_power > 0 && model.w[kWAppearance] >= VoxelCrfOptions::kEvidenceWeight
+          ? model.layout.RatioCosts(options.layout_pseudo_count, options.layout_frequency_power)
+          : std::vector<float>{};
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096), [&](const tbb::blocked_range<int>& r) {
     for (int i = r.begin(); i != r.end(); ++i) {
       const size_t s = size_t(i);
@@ -415,8 +415,7 @@ VoxelCrfProblem BuildVoxelCrfProblem(const VoxelGrid& grid, const VoxelCrfNodes&
         const auto c = grid.Cell(nodes.voxel[s]);
         const int hb = LayoutPrior::HeightBin(grid.CellCenter(c[0], c[1], c[2]).z(), floor_z, ceiling_z);
         const int nb = LayoutPrior::NormalBin(ev.normal[s]);
-        const bool by_ratio = !ratio.empty() && appearance_counts;
-        const float* row = by_ratio ? &ratio[(size_t(hb) * LayoutPrior::kNormalBins + size_t(nb)) * size_t(K)] : nullptr;
+        const float* row = ratio.empty() ? nullptr : &ratio[(size_t(hb) * LayoutPrior::kNormalBins + size_t(nb)) * size_t(K)];
         for (int k = 0; k < K; ++k) p.f_layout[s * K + k] = row ? row[k] : model.layout.Cost(hb, nb, k);
       }
     }

@@ -104,7 +104,6 @@ struct LayoutPrior {
   std::vector<float> RatioCosts(double pseudo_count, double power) const;
 };
 
-
 struct VoxelCrfModel {
   std::array<double, kNumVoxelCrfWeights> w{};
   LayoutPrior layout;
