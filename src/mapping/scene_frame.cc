@@ -220,6 +220,36 @@ bool WallYaw(const Samples& s, const Eigen::Matrix3d& level, const SceneFrameOpt
   return true;
 }
 
+// The walls' phase within a grid of period `period` along the levelled, turned frame's x and y: for samples whose
+// normal lies within `wall_normal_deg` of +-x (resp. +-y), the weighted circular mean of x (resp. y) modulo the
+// period. `shift` is the position of that mean in [-period / 2, period / 2); `concentration` its resultant
+// length (1: every wall at one phase; near 0: no preferred phase).
+void WallPhase(const Samples& s, const Eigen::Matrix3d& rotation, double period, double wall_normal_deg,
+               Eigen::Vector2d* shift, Eigen::Vector2d* concentration) {
+  const double cos_w = std::cos(wall_normal_deg * kDeg);
+  double c[2] = {0, 0}, sn[2] = {0, 0}, total[2] = {0, 0};
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s.weight[i] <= 0) continue;
+    const Eigen::Vector3d n = rotation * s.normal[i];
+    for (int axis = 0; axis < 2; ++axis) {
+      if (std::fabs(n[axis]) < cos_w) continue;
+      const double a = 2 * M_PI * (rotation.row(axis) * s.position[i])(0) / period;
+      c[axis] += s.weight[i] * std::cos(a);
+      sn[axis] += s.weight[i] * std::sin(a);
+      total[axis] += s.weight[i];
+    }
+  }
+  for (int axis = 0; axis < 2; ++axis) {
+    (*shift)[axis] = 0;
+    (*concentration)[axis] = 0;
+    if (!(total[axis] > 0)) continue;
+    (*concentration)[axis] = std::hypot(c[axis], sn[axis]) / total[axis];
+    double d = std::atan2(sn[axis], c[axis]) / (2 * M_PI) * period;  // (-period / 2, period / 2]
+    if (d >= 0.5 * period) d -= period;
+    (*shift)[axis] = d;
+  }
+}
+
 std::string Fixed(double v, int digits) {
   std::ostringstream os;
   os.setf(std::ios::fixed);
@@ -246,6 +276,8 @@ bool SceneFrameOptions::Check(std::string* error) const {
   if (!(bin_m > 0)) return fail("bin_m must be > 0");
   if (cloud_normal_neighbors < 3) return fail("cloud_normal_neighbors must be >= 3");
   if (max_cloud_points < 100) return fail("max_cloud_points must be >= 100");
+  if (!(min_phase_concentration >= 0 && min_phase_concentration <= 1)) return fail("min_phase_concentration must be in [0, 1]");
+  if (!(snap_shift_m >= 0)) return fail("snap_shift_m must be >= 0");
   return true;
 }
 
@@ -335,7 +367,17 @@ SceneFrame EstimateSceneFrame(const Scene& scene, const SceneFrameOptions& o) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   if (f.levelled) t.linear() = level;
   if (f.yaw_deg != 0) t.prerotate(Eigen::AngleAxisd(-f.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()));
-  if (f.floor_z != 0) t.pretranslate(Eigen::Vector3d(0, 0, -f.floor_z));
+
+  // (d) The walls' phase within the voxel grid, in the levelled, turned frame.
+  if (o.wall_phase && f.yaw_found) {
+    Eigen::Vector2d shift;
+    WallPhase(s, t.linear(), o.bin_m, o.wall_normal_deg, &shift, &f.phase_concentration);
+    for (int axis = 0; axis < 2; ++axis)
+      if (f.phase_concentration[axis] >= o.min_phase_concentration && std::fabs(shift[axis]) >= o.snap_shift_m)
+        f.shift[axis] = shift[axis];
+  }
+  if (f.floor_z != 0 || f.shift.x() != 0 || f.shift.y() != 0)
+    t.pretranslate(Eigen::Vector3d(-f.shift.x(), -f.shift.y(), -f.floor_z));
   f.canonical_from_input = t;
   f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return f;

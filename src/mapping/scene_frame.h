@@ -8,12 +8,16 @@
 // arbitrarily about the vertical, so `semvox run` estimates the frame right after loading and works in it;
 // coordinate outputs are mapped back to the input frame (docs/outputs.md, "Frames").
 //
-//   canonical_from_input = T(0, 0, -floor_z) * Rz(-yaw) * R_level
+//   canonical_from_input = T(-shift_x, -shift_y, -floor_z) * Rz(-yaw) * R_level
 //
 // R_level: the smallest rotation taking the estimated up (the normal of the dominant horizontal planes,
 // floor and ceiling) to +Z, applied for tilts up to `max_level_deg`; yaw: the dominant direction of wall
 // normals modulo 90 degrees; floor_z: the lowest dominant horizontal plane after levelling, by the
-// voxeliser's own rule (DetectFloorCeiling). Tiny corrections snap to exactly zero, so axis-aligned inputs
+// voxeliser's own rule (DetectFloorCeiling); shift_x, shift_y: the walls' phase within the voxel grid (the
+// area-weighted circular mean of the wall surfaces' x (resp. y) modulo the voxel size), so that walls lie on
+// voxel boundaries as the floor at z = 0 does. With the phase fixed, one apartment in any pose cuts into the
+// same voxels (up to whole voxels), and its walls voxelise as the generated training apartments' do (their
+// walls lie on the grid). Tiny corrections snap to exactly zero, so axis-aligned inputs
 // with the floor at z = 0 get exactly the identity. Pure functions; deterministic (parallel loops write
 // per-element slots only; histograms are summed in element order).
 #pragma once
@@ -43,6 +47,10 @@ struct SceneFrameOptions {
   double snap_tilt_deg = 0.05;        // Smaller tilts are not corrected (exact identity), degrees.
   double snap_yaw_deg = 0.05;         // Smaller yaws are not corrected, degrees.
   double snap_floor_m = 0.001;        // Smaller floor offsets are not corrected, metres.
+  bool wall_phase = true;             // Shift x, y so that the walls lie on voxel boundaries (period bin_m).
+  double min_phase_concentration = 0.2;  // No shift on an axis unless the walls' phases agree this much
+                                         // (resultant length of the area-weighted circular mean). [0, 1].
+  double snap_shift_m = 0.0025;       // Smaller shifts are not applied, metres.
 
   bool Check(std::string* error) const;
 };
@@ -66,6 +74,10 @@ struct SceneFrame {
                                 // metres; 0 when not found or snapped. Equals the input z of the floor for a
                                 // level scan.
   double floor_measured_z = 0.0;  // Before snapping, metres.
+  // Wall phase shift along the canonical x and y (after levelling and turning), metres, in [-bin_m / 2,
+  // bin_m / 2); 0 on an axis whose walls' phases do not agree or whose shift snapped.
+  Eigen::Vector2d shift = Eigen::Vector2d::Zero();
+  Eigen::Vector2d phase_concentration = Eigen::Vector2d::Zero();  // Resultant lengths per axis, [0, 1].
   std::vector<std::string> warnings;  // Sentences for the log and summary.json; tilt warnings name --up.
   double seconds = 0.0;
 };

@@ -64,6 +64,7 @@ PipelineSummary SummarizePipeline(const PipelineResult& r, const StageTimes& sec
                   {"yaw_found", frame.yaw_found},
                   {"floor_z_input", frame.floor_z},
                   {"floor_found", frame.floor_found},
+                  {"shift_xy", {frame.shift.x(), frame.shift.y()}},
                   {"warnings", frame.warnings}};
   }
   nlohmann::json positions = nlohmann::json::array();

@@ -136,21 +136,23 @@ std::vector<Eigen::Vector3d> PlaceViewpoints(const VoxelMap& map, const ViewsOpt
   // diagonal away, so that no point of a non-free voxel is nearer than the clearance.
   const double min_cells = options.wall_clearance_m / res + 0.5 * std::numbers::sqrt2;
 
-  // One viewpoint per grid_spacing_m square (squares aligned to world multiples of the spacing): the
-  // clear voxel nearest the square's centre.
+  // One viewpoint per grid_spacing_m square: the clear voxel nearest the square's centre. The squares start at
+  // the grid's lower corner, so one scan in two poses gets the same viewpoints relative to its walls (the
+  // canonical frame puts both on the same grid up to whole voxels; world multiples of the spacing would not).
   struct Best {
     double dist2;
     Eigen::Vector3d p;
   };
   std::map<std::pair<int64_t, int64_t>, Best> best;
   const double s = options.grid_spacing_m;
+  const Eigen::Vector3d corner = grid.CellCenter(0, 0, iz) - Eigen::Vector3d(0.5 * res, 0.5 * res, 0);
   for (int y = 0; y < ny; ++y)
     for (int x = 0; x < nx; ++x) {
       const size_t i = size_t(y) * nx + x;
       if (obstacle[i] || d2[i] < min_cells * min_cells) continue;
       const Eigen::Vector3d c = grid.CellCenter(x, y, iz);
-      const int64_t sx = int64_t(std::floor(c.x() / s)), sy = int64_t(std::floor(c.y() / s));
-      const Eigen::Vector2d centre((sx + 0.5) * s, (sy + 0.5) * s);
+      const int64_t sx = int64_t(std::floor((c.x() - corner.x()) / s)), sy = int64_t(std::floor((c.y() - corner.y()) / s));
+      const Eigen::Vector2d centre(corner.x() + (sx + 0.5) * s, corner.y() + (sy + 0.5) * s);
       const double dc = (c.head<2>() - centre).squaredNorm();
       auto [it, inserted] = best.try_emplace({sy, sx}, Best{dc, Eigen::Vector3d(c.x(), c.y(), z)});
       if (!inserted && dc < it->second.dist2) it->second = Best{dc, Eigen::Vector3d(c.x(), c.y(), z)};

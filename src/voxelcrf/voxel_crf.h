@@ -138,10 +138,10 @@ struct VoxelCrfOptions {
   // The prior is then divided by P(s)^layout_frequency_power on every node (LayoutPrior::RatioCosts; 0: as
   // learned). A model whose labels come from the layout itself and the object segments (the point-cloud
   // model, appearance weight ~0) keeps the prior as learned: its walls and floors have no other evidence
-  // (docs/voxelcrf.md: measured both ways). Off by default: at 1 the generated apartments' labels gain
-  // (mean recall 0.25 -> 0.32) but a turned and shifted copy of an apartment gains less than the original,
-  // 3 points apart where the canonical frame's test allows 2 (docs/voxelcrf.md).
-  double layout_frequency_power = 0;
+  // (docs/voxelcrf.md: measured both ways). 1 (the default since 2026-12-04; 0 keeps the prior as learned)
+  // lifts the generated apartments' mean recall 0.25 -> 0.32; it became the default once the canonical frame
+  // fixed the walls' phase in the voxel grid, so that turned and shifted copies of a scan gain alike.
+  double layout_frequency_power = 1;
   double layout_pseudo_count = 200;  // m of LayoutPrior::RatioCosts, voxels.
   static constexpr double kEvidenceWeight = 0.01;
   PlaneDetectionOptions planes;

@@ -58,14 +58,32 @@ TEST(PlaceViewpoints, MidHeightInFreeSpaceWithClearance) {
         EXPECT_GE((nearest - p.head<2>()).norm(), options.wall_clearance_m - 1e-9) << p.transpose();
       }
   }
-  // Spread: at most one viewpoint per 1 m square.
+  // Spread: at most one viewpoint per 1 m square, squares from the grid's lower corner (-0.1, -0.1).
   for (size_t i = 0; i < positions.size(); ++i)
     for (size_t j = i + 1; j < positions.size(); ++j)
-      EXPECT_FALSE(std::floor(positions[i].x()) == std::floor(positions[j].x()) &&
-                   std::floor(positions[i].y()) == std::floor(positions[j].y()));
+      EXPECT_FALSE(std::floor(positions[i].x() + 0.1) == std::floor(positions[j].x() + 0.1) &&
+                   std::floor(positions[i].y() + 0.1) == std::floor(positions[j].y() + 0.1));
   // Too much clearance: nowhere to stand.
   options.wall_clearance_m = 2.0;
   EXPECT_TRUE(PlaceViewpoints(map, options, &z).empty());
+}
+
+// The same map moved by whole voxels (another pose of one scan in its canonical frame) gets the same
+// viewpoints moved with it: the squares start at the grid's corner, not at world multiples of the spacing.
+TEST(PlaceViewpoints, MoveWithTheMapByWholeVoxels) {
+  const VoxelMap map = HandMadeMap();
+  VoxelMap moved = map;
+  const std::array<int, 3> okey = map.grid.origin_key();
+  moved.grid = VoxelGrid(map.grid.resolution(), {okey[0] + 7, okey[1] - 3, okey[2]}, map.grid.dims());
+  for (size_t i = 0; i < map.grid.size(); ++i) moved.grid.set_state(i, map.grid.state(i));
+  ViewsOptions options;
+  options.grid_spacing_m = 1.0;
+  options.wall_clearance_m = 0.45;
+  const std::vector<Eigen::Vector3d> a = PlaceViewpoints(map, options, nullptr), b = PlaceViewpoints(moved, options, nullptr);
+  ASSERT_GE(a.size(), 6u);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i)
+    EXPECT_LT((b[i] - a[i] - Eigen::Vector3d(0.7, -0.3, 0.0)).norm(), 1e-9) << a[i].transpose() << " / " << b[i].transpose();
 }
 
 TEST(ViewsOptions, CheckNamesFieldValueAndConstraint) {
