@@ -141,9 +141,8 @@ struct RoomTypeCrfOptions {
   double object_sigma_m = 1.5;          // Eq. 5 o_i.
   // The semantic top view the object term reads passes over voxels whose label confidence is lower (`semvox
   // run`'s rooms stage; a label the Voxel-CRF barely prefers is as likely a wall misread as an object). 0.5
-  // goes with semantic.layout_frequency_power 1, both defaults (docs/voxelcrf.md); at power 0 it costs the
-  // plans 1.5 points.
-  double min_object_confidence = 0.5;
+  // goes with semantic.layout_frequency_power 1 (docs/voxelcrf.md); at power 0 it costs the plans 1.5 points.
+  double min_object_confidence = 0;
   int burn_in_sweeps = 20;
   int sample_sweeps = 100;
   uint64_t seed = 1;                    // Gibbs sampling order and draws.
