@@ -5,7 +5,7 @@
 # simulated fused cloud, and scored by
 # `semvox eval`: room segmentation recall / precision, room-type pixel accuracy and class average, top-view
 # coverage (the geometric accuracy: the share of floor-plan pixels whose free / occupied state is right), the
-# run's seconds; per plan and mean, the room-type confusion in m² summed over the plans, then the ipa maps of
+# labels (visible-voxel NYU40 accuracy and class-mean recall: the furniture the room types read), the run's seconds; per plan and mean, the room-type confusion in m² summed over the plans, then the ipa maps of
 # ../shared/data beside them (scripts/bench_rooms.sh's figures, distance method). Exits 0 with a message when
 # the plans are absent.
 # Usage: scripts/bench_rooms_real.sh [--plans 300-399] [--inputs mesh,cloud] [--keep DIR] [--no-furniture] [--config FILE]
@@ -88,22 +88,23 @@ for inp in inputs:
         secs = float(open(os.path.join(work, str(i), inp + '.seconds')).read())
         seg, rt = e['d_room_segmentation'], e['e_room_types']
         rows.append((i, val(seg['recall']), val(seg['precision']), seg['gt_rooms'], seg['predicted_rooms'],
-                     val(rt['global']), val(rt['average']), val(e['a_top_view']['geometric_accuracy']), secs))
+                     val(rt['global']), val(rt['average']), val(e['a_top_view']['geometric_accuracy']), secs,
+                     val(e['b_visible_voxels']['accuracy']), val(e['b_visible_voxels']['mean_recall'])))
         px = gt['rooms_gt']['resolution'] ** 2
         for g, row in rt.get('confusion_pixels', {}).items():
             for p_, n in row.items():
                 conf.setdefault(g, {}).setdefault(p_, 0.0)
                 conf[g][p_] += n * px
     print(f"\n{inp}: {len(rows)} plans through semvox run")
-    print("  plan  recall  precision  rooms gt/pred  type pixel  type class-avg  coverage  seconds")
+    print("  plan  recall  precision  rooms gt/pred  type pixel  type class-avg  coverage  seconds  labels  label recall")
     f = lambda v: '   -  ' if v is None else f"{v:6.3f}"
     for r in rows:
-        print(f"  {r[0]:4d}  {f(r[1])}  {f(r[2])}     {r[3]:3d}/{r[4]:<3d}      {f(r[5])}      {f(r[6])}       {f(r[7])}  {r[8]:6.1f}")
+        print(f"  {r[0]:4d}  {f(r[1])}  {f(r[2])}     {r[3]:3d}/{r[4]:<3d}      {f(r[5])}      {f(r[6])}       {f(r[7])}  {r[8]:6.1f}  {f(r[9])}  {f(r[10])}")
     def mean(k):
         v = [r[k] for r in rows if r[k] is not None]
         return sum(v) / len(v) if v else None
     if rows:
-        print(f"  mean  {f(mean(1))}  {f(mean(2))}                {f(mean(5))}      {f(mean(6))}       {f(mean(7))}  {mean(8):6.1f}")
+        print(f"  mean  {f(mean(1))}  {f(mean(2))}                {f(mean(5))}      {f(mean(6))}       {f(mean(7))}  {mean(8):6.1f}  {f(mean(9))}  {f(mean(10))}")
         print(f"  coverage below 0.95 on {sum(1 for r in rows if r[7] is not None and r[7] < 0.95)} of {len(rows)} plans")
         types = sorted(set(conf) | {p for row in conf.values() for p in row})
         print("  room-type confusion, m² (rows: ground truth, columns: predicted)")
