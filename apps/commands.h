@@ -121,6 +121,8 @@ struct TrainArgs {
   bool room_type_statistics_only = false;   // Recompute the R2V fixture statistics of OUTDIR/room_type_crf.json.
   bool room_type_knn_only = false;          // Rebuild OUTDIR/room_type_knn.bin from generated apartments + R2V plans.
   int room_type_plans = 300;                // ... from the first this many sorted R2V plans (<= 300, the training split).
+  int view_plans = 0;                       // `semvox train`: apartments built on the first N sorted R2V training plans add
+                                            // rows to the per-view classifiers (nyu4.*, second.*).
   std::string room_type_knn_classes = "truth";  // ... descriptors of the views' true or predicted (OUTDIR/second.*) classes.
   std::string r2v_dir;                      // R2V plans (empty: ../shared/data/r2v from the working directory).
   std::string segment_seeds = "0-99";       // Generator seeds the object-segment classifier learns on (randomised scans).

@@ -122,6 +122,10 @@ int main(int argc, char** argv) {
                         "R2V training plans (the first N sorted, at most 300) whose apartments add rows to the room-type k-NN "
                         "(--room-type-knn) or teach the room-type evidence terms (--room-type-evidence)")
       ->check(CLI::Range(0, 300));
+  train_cmd->add_option("--view-plans", train.view_plans,
+                        "apartments built on the first N sorted R2V training plans (at most 300; furnished by room type) add "
+                        "their views' superpixels to the per-view classifiers' training rows (default 0)")
+      ->check(CLI::Range(0, 300));
   train_cmd->add_option("--room-type-knn-classes", train.room_type_knn_classes,
                         "--room-type-knn rows from the true classes of each view (truth, as `semvox train`) or from those the "
                         "per-view classifier OUTDIR/second.* predicts (predicted, as at run time)")

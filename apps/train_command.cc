@@ -32,6 +32,7 @@
 #include "perception/training_data.h"
 #include "perception/view_classifier.h"
 #include "pipeline/voxel_crf_training.h"
+#include "rooms/r2v_layout.h"
 #include "rooms/r2v_plan.h"
 #include "rooms/room_type_training.h"
 
@@ -360,6 +361,17 @@ Status RunTrain(const TrainArgs& args) {
     return Status::InvalidInput("--crf-holdout = " + std::to_string(args.crf_holdout) +
                                 ". Violated constraint: 0 <= crf-holdout < number of training seeds (" +
                                 std::to_string(train_seeds.size()) + ")");
+  // --view-plans: the plans are listed before anything is trained, so a wrong directory fails at once.
+  std::vector<std::string> view_plans;
+  if (args.view_plans > 0) {
+    const std::string dir = R2vDirectory(args);
+    std::error_code dir_ec;
+    if (!std::filesystem::is_directory(dir, dir_ec))
+      return Status::InvalidInput(FileError(dir, "no such directory (the R2V plans)", "pass --r2v-dir DIR, or --view-plans 0"));
+    view_plans = ListR2vPlans(dir);
+    if (view_plans.empty()) return Status::InvalidInput(FileError(dir, "holds no plan_*.txt", "pass --r2v-dir DIR, or --view-plans 0"));
+    view_plans.resize(std::min(view_plans.size(), size_t(std::min(args.view_plans, kR2vTrainingPlans))));
+  }
   std::error_code ec;
   std::filesystem::create_directories(args.outdir, ec);
   if (ec) return Status::InvalidInput(FileError(args.outdir, "cannot create the output directory", ec.message()));
@@ -392,6 +404,36 @@ Status RunTrain(const TrainArgs& args) {
     }));
     SEMVOX_INFO("train: seed " << seed << ", " << train_views << " views so far");
   }
+  // Apartments on real layouts (--view-plans): their views' superpixels join the per-view classifiers' rows
+  // (not the room-type k-NN's). Plan k draws its furniture, colours and views from kPlanViewSeedBase + k.
+  int plan_views = 0, plans_used = 0, plans_skipped = 0;
+  if (!view_plans.empty()) {
+    const std::vector<std::string>& plans = view_plans;
+    for (size_t k = 0; k < plans.size(); ++k) {
+      int unclosed = 0;
+      Result<PlanLayout> layout = LayoutOfR2vPlan(plans[k], &unclosed);
+      PlanApartmentOptions po;
+      po.seed = kPlanViewSeedBase + k;
+      Result<Apartment> apartment = layout.ok() ? ApartmentFromLayout(*layout, po) : Result<Apartment>(layout.status());
+      if (!apartment.ok()) {
+        ++plans_skipped;
+        SEMVOX_INFO("train: plan " << plans[k] << " skipped: " << apartment.status().message());
+        continue;
+      }
+      ++plans_used;
+      SEMVOX_RETURN_IF_ERROR(ForEachViewOfApartment(*apartment, po.seed, views, [&](const LabelledView& v) {
+        Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
+        if (!sp.ok()) return sp.status();
+        Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
+        if (!obs.ok()) return obs.status();
+        for (size_t l = 0; l < levels.size(); ++l)
+          AddTrainingSuperpixels(*sp, *obs, levels[l].Map(*v.nyu40), options.min_label_purity, &sets[l]);
+        ++plan_views;
+        return Status::Ok();
+      }));
+    }
+    SEMVOX_INFO("train: " << plan_views << " views of " << plans_used << " R2V plan apartments (" << plans_skipped << " skipped)");
+  }
   std::vector<ViewClassifier> classifiers;
   nlohmann::json report;
   // The effective configuration, beside the outputs.
@@ -416,6 +458,7 @@ Status RunTrain(const TrainArgs& args) {
   report["crf_holdout_seeds"] = crf_seeds;
   report["val_seeds"] = args.val_seeds;
   report["train_views"] = train_views;
+  report["view_plans"] = {{"plans", args.view_plans}, {"used", plans_used}, {"skipped", plans_skipped}, {"views", plan_views}};
   for (size_t l = 0; l < levels.size(); ++l) {
     report["levels"][levels[l].name]["train_rows_image"] = sets[l].image_labels.size();
     report["levels"][levels[l].name]["train_rows_image_3d"] = sets[l].full_labels.size();

@@ -230,6 +230,8 @@ TEST(Reliability, BadInputMatrix) {
       {"config value out of range", "run {DEMO} --config {D}/cfg_range.yaml -o {D}/out", 2, "mapping.scan_spacing_m = -1"},
       {"room-type calibration on validation plans", "train --room-type-evidence --r2v-dir {D} --room-type-calibration-plans 290-310 -o {D}/models_x",
        2, "plan 300 is a validation plan"},
+      {"per-view training on plans without plans", "train --view-plans 5 --r2v-dir {D}/no_plans -o {D}/models_y", 2,
+       "no_plans: no such directory (the R2V plans)"},
       {"config syntax error", "run {DEMO} --config {D}/cfg_syntax.yaml -o {D}/out", 2, "invalid YAML"},
       {"missing config", "run {DEMO} --config {D}/none.yaml -o {D}/out", 2, "none.yaml: no such file"},
   };
