@@ -32,7 +32,6 @@
 #include "perception/training_data.h"
 #include "perception/view_classifier.h"
 #include "pipeline/voxel_crf_training.h"
-#include "rooms/r2v_layout.h"
 #include "rooms/r2v_plan.h"
 #include "rooms/room_type_training.h"
 
@@ -100,17 +99,22 @@ nlohmann::json Scores(const ConfusionMatrix& cm, const LabelLevel& level) {
   return j;
 }
 
-// Every kept view of apartment `seed`, cut into superpixels with their observations once (both label levels
-// and the room-type evidence share the segmentation).
+using SegmentedViewFn = std::function<Status(const LabelledView&, const Superpixels&, const ViewObservations&)>;
+
+// A view cut into superpixels with their observations once (both label levels and the room-type evidence
+// share the segmentation).
+Status SegmentView(const LabelledView& v, const ViewClassifierOptions& options, const SegmentedViewFn& fn) {
+  Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
+  if (!sp.ok()) return sp.status();
+  Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
+  if (!obs.ok()) return obs.status();
+  return fn(v, *sp, *obs);
+}
+
+// Every kept view of apartment `seed`, segmented (SegmentView).
 Status ForEachSegmentedView(uint64_t seed, const TrainingViewsOptions& views, const ViewClassifierOptions& options,
-                            const std::function<Status(const LabelledView&, const Superpixels&, const ViewObservations&)>& fn) {
-  return ForEachApartmentView(seed, views, [&](const LabelledView& v) {
-    Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
-    if (!sp.ok()) return sp.status();
-    Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
-    if (!obs.ok()) return obs.status();
-    return fn(v, *sp, *obs);
-  });
+                            const SegmentedViewFn& fn) {
+  return ForEachApartmentView(seed, views, [&](const LabelledView& v) { return SegmentView(v, options, fn); });
 }
 
 // The object-segment classifier on randomised scans of --segment-seeds, scored on val_seeds; writes
@@ -408,28 +412,21 @@ Status RunTrain(const TrainArgs& args) {
   // (not the room-type k-NN's). Plan k draws its furniture, colours and views from kPlanViewSeedBase + k.
   int plan_views = 0, plans_used = 0, plans_skipped = 0;
   if (!view_plans.empty()) {
-    const std::vector<std::string>& plans = view_plans;
-    for (size_t k = 0; k < plans.size(); ++k) {
-      int unclosed = 0;
-      Result<PlanLayout> layout = LayoutOfR2vPlan(plans[k], &unclosed);
-      PlanApartmentOptions po;
-      po.seed = kPlanViewSeedBase + k;
-      Result<Apartment> apartment = layout.ok() ? ApartmentFromLayout(*layout, po) : Result<Apartment>(layout.status());
+    for (size_t k = 0; k < view_plans.size(); ++k) {
+      Result<Apartment> apartment = TrainingPlanApartment(view_plans[k], k);
       if (!apartment.ok()) {
         ++plans_skipped;
-        SEMVOX_INFO("train: plan " << plans[k] << " skipped: " << apartment.status().message());
+        SEMVOX_INFO("train: plan " << view_plans[k] << " skipped: " << apartment.status().message());
         continue;
       }
       ++plans_used;
-      SEMVOX_RETURN_IF_ERROR(ForEachViewOfApartment(*apartment, po.seed, views, [&](const LabelledView& v) {
-        Result<Superpixels> sp = ComputeSuperpixels(v.view->rgb, options.superpixels);
-        if (!sp.ok()) return sp.status();
-        Result<ViewObservations> obs = ComputeObservations(*v.view, *sp, options.observations);
-        if (!obs.ok()) return obs.status();
-        for (size_t l = 0; l < levels.size(); ++l)
-          AddTrainingSuperpixels(*sp, *obs, levels[l].Map(*v.nyu40), options.min_label_purity, &sets[l]);
-        ++plan_views;
-        return Status::Ok();
+      SEMVOX_RETURN_IF_ERROR(ForEachViewOfApartment(*apartment, kPlanViewSeedBase + k, views, [&](const LabelledView& lv) {
+        return SegmentView(lv, options, [&](const LabelledView& v, const Superpixels& sp, const ViewObservations& obs) {
+          for (size_t l = 0; l < levels.size(); ++l)
+            AddTrainingSuperpixels(sp, obs, levels[l].Map(*v.nyu40), options.min_label_purity, &sets[l]);
+          ++plan_views;
+          return Status::Ok();
+        });
       }));
     }
     SEMVOX_INFO("train: " << plan_views << " views of " << plans_used << " R2V plan apartments (" << plans_skipped << " skipped)");

@@ -158,15 +158,10 @@ Result<std::vector<RoomTypeTrainingScene>> PlanEvidenceScenes(const std::vector<
   std::vector<Unit> units(plans.size());
   tbb::parallel_for(size_t(0), plans.size(), [&](size_t k) {
     Unit& u = units[k];
-    int unclosed = 0;
-    Result<PlanLayout> layout = LayoutOfR2vPlan(plans[k], &unclosed);
-    if (!layout.ok()) return;
-    PlanApartmentOptions options;
-    options.seed = kPlanViewSeedBase + k;
-    Result<Apartment> apartment = ApartmentFromLayout(*layout, options);
+    Result<Apartment> apartment = TrainingPlanApartment(plans[k], k);
     if (!apartment.ok()) return;
     RoomTypeTrainingScene s = RoomTypeSceneOf(*apartment);
-    u.status = ForEachViewOfApartment(*apartment, options.seed, views, [&](const LabelledView& v) {
+    u.status = ForEachViewOfApartment(*apartment, kPlanViewSeedBase + k, views, [&](const LabelledView& v) {
       Result<ViewClassification> c = second_level.Classify(*v.view);
       if (!c.ok()) return c.status();
       const RoomViewRecord r = MakeRoomViewRecord(v, PixelLabels(c->superpixels, c->tree_labels), level.num_classes(), object_classes, max_range_m);
@@ -209,6 +204,15 @@ bool AddRoomKnnRow(const LabelledView& view, const Image<int32_t>& classes, int 
   return true;
 }
 
+Result<Apartment> TrainingPlanApartment(const std::string& plan, size_t k) {
+  int unclosed = 0;
+  Result<PlanLayout> layout = LayoutOfR2vPlan(plan, &unclosed);
+  if (!layout.ok()) return layout.status();
+  PlanApartmentOptions options;
+  options.seed = kPlanViewSeedBase + k;
+  return ApartmentFromLayout(*layout, options);
+}
+
 Result<RoomKnnRows> RoomTypeKnnRows(const std::vector<uint64_t>& seeds, const std::vector<std::string>& plans,
                                     const ViewClassifier* classifier) {
   const LabelLevel level = SecondLevel();
@@ -242,16 +246,12 @@ Result<RoomKnnRows> RoomTypeKnnRows(const std::vector<uint64_t>& seeds, const st
       return;
     }
     const size_t k = i - seeds.size();
-    int unclosed = 0;
-    Result<PlanLayout> layout = LayoutOfR2vPlan(plans[k], &unclosed);
-    PlanApartmentOptions options;
-    options.seed = kPlanViewSeedBase + k;
-    Result<Apartment> apartment = layout.ok() ? ApartmentFromLayout(*layout, options) : Result<Apartment>(layout.status());
+    Result<Apartment> apartment = TrainingPlanApartment(plans[k], k);
     if (!apartment.ok()) {
       u.skipped = true;
       return;
     }
-    u.status = ForEachViewOfApartment(*apartment, options.seed, views, add(&u));
+    u.status = ForEachViewOfApartment(*apartment, kPlanViewSeedBase + k, views, add(&u));
   });
   RoomKnnRows rows;
   for (size_t i = 0; i < units.size(); ++i) {

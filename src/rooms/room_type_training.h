@@ -66,6 +66,9 @@ std::vector<std::array<double, kRoomTypeLabels>> CombinedObjectStatistics(const 
 // views from kPlanViewSeedBase + k). A plan that cannot be built (no doors, no closed room) is skipped and
 // counted. Both cores; the rows come in seed, then plan, then view order whatever the threads.
 inline constexpr uint64_t kPlanViewSeedBase = 1000000;
+// The training apartment of R2V plan k of a list: its layout built and furnished by room type from seed
+// kPlanViewSeedBase + k (the seed its views draw from too). An error when the plan cannot be built.
+Result<Apartment> TrainingPlanApartment(const std::string& plan, size_t k);
 // Appends the k-NN row of one view (RoomViewDescriptor of `classes`, second-level class indices per pixel) and
 // its type index to `x` and `y` when the view shows a typed room; returns whether it did.
 bool AddRoomKnnRow(const LabelledView& view, const Image<int32_t>& classes, int num_classes, std::vector<float>* x,
