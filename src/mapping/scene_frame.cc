@@ -369,7 +369,7 @@ SceneFrame EstimateSceneFrame(const Scene& scene, const SceneFrameOptions& o) {
   if (f.yaw_deg != 0) t.prerotate(Eigen::AngleAxisd(-f.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()));
 
   // (d) The walls' phase within the voxel grid, in the levelled, turned frame.
-  if (o.wall_phase && f.yaw_found) {
+  if (o.wall_phase && f.yaw_found && (!o.phase_only_when_turned || f.levelled || f.yaw_deg != 0)) {
     Eigen::Vector2d shift;
     WallPhase(s, t.linear(), o.bin_m, o.wall_normal_deg, &shift, &f.phase_concentration);
     for (int axis = 0; axis < 2; ++axis)

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "core/labels.h"
 #include "core/log.h"
 #include "io/image_io.h"
 
@@ -73,6 +74,18 @@ nlohmann::ordered_json RoomTypesSummaryJson(const RoomTypesStageResult& typed) {
     j["rooms"].push_back({{"id", d.id}, {"type_id", d.type_id}, {"probability", std::round(d.type_probability * 1e4) / 1e4},
                           {"second_type_id", d.second_type_id},
                           {"second_probability", std::round(d.second_type_probability * 1e4) / 1e4}});
+  // Which evidence decided each room: the CRF's unary terms per type (room_type_crf.h), types named.
+  auto terms = [](const std::array<double, kRoomTypeLabels>& t) {
+    nlohmann::ordered_json o;
+    for (int y = 0; y < kRoomTypeLabels; ++y) o[RoomTypes()[size_t(y + 1)].name] = std::round(t[size_t(y)] * 1e3) / 1e3;
+    return o;
+  };
+  for (size_t i = 0; i < j["rooms"].size(); ++i) {
+    const int id = j["rooms"][i]["id"].get<int>();
+    if (id < 1 || id > int(result.assignments.size())) continue;
+    const RoomTypeAssignment& a = result.assignments[size_t(id - 1)];
+    j["rooms"][i]["terms"] = {{"scene", terms(a.scene_term)}, {"objects", terms(a.object_term)}, {"shape", terms(a.shape_term)}};
+  }
   // The shape the room-shape term saw, per input room.
   for (size_t i = 0; i < j["rooms"].size(); ++i) {
     const int id = j["rooms"][i]["id"].get<int>();

@@ -143,6 +143,13 @@ struct RoomTypeCrfOptions {
   // run`'s rooms stage; a label the Voxel-CRF barely prefers is as likely a wall misread as an object). 0.5
   // goes with semantic.layout_frequency_power 1 (docs/voxelcrf.md); at power 0 it costs the plans 1.5 points.
   double min_object_confidence = 0;
+  // A piece of furniture in the top view is an 8-connected group of object cells (any class of the four object
+  // groups) in one room. A class's object evidence in a room is scaled by its largest share of a piece over
+  // min_object_share, capped at 1: a patch of sofa or television read on a bed counts little, a sofa of its own
+  // (or a kitchen counter in an open-plan room) fully. 0 = every class present counts fully (the paper's Eq. 5).
+  // 0.3 since 2026-12-04, chosen through `semvox run` on R2V training plans 250-269 and generated apartments
+  // 40-44 (docs/rooms.md); on a clean ground-truth top view it costs (true objects standing on others).
+  double min_object_share = 0.3;
   int burn_in_sweeps = 20;
   int sample_sweeps = 100;
   uint64_t seed = 1;                    // Gibbs sampling order and draws.
@@ -176,6 +183,9 @@ struct RoomTypeCrfOptions {
             OptionNumber(&O::min_object_confidence, "min_object_confidence", 0, 1, "",
                          "the object term reads the semantic top view without the voxels whose label confidence "
                          "is lower"),
+            OptionNumber(&O::min_object_share, "min_object_share", 0, 1, "",
+                         "an object class counts fully in a room only where it makes at least this share of a piece of "
+                         "furniture in the top view (8-connected object cells), proportionally less below; 0 = always fully"),
             OptionNumber(&O::burn_in_sweeps, "burn_in_sweeps", 0, 100000, "", "Gibbs sweeps discarded"),
             OptionNumber(&O::sample_sweeps, "sample_sweeps", 1, 1000000, "", "Gibbs sweeps counted into the marginals"),
             OptionNumber(&O::seed, "seed", 0, 4294967295.0, "", "seed of the Gibbs sampler"),
@@ -268,6 +278,10 @@ struct RoomTypeAssignment {
   int second_type_id = 0;
   double second_probability = 0;
   std::array<double, kRoomTypeLabels> probabilities{};
+  // The Gibbs CRF's unary terms, pixel-weighted means over the room's nodes, as weighted in the energy: the
+  // scene (views), the object groups (summed) and the room shape. Which evidence decided a room (zero when
+  // the term is off or another method ran).
+  std::array<double, kRoomTypeLabels> scene_term{}, object_term{}, shape_term{};
 };
 
 struct RoomTypeResult {

@@ -169,21 +169,55 @@ Result<RoomTypeGraph> BuildRoomTypeGraph(const FloorPlan& plan, const RoomSegmen
   if (!topview_labels.empty()) {
     const int num_rooms = rooms.num_rooms;
     std::vector<int> x0(num_rooms + 1, W), y0(num_rooms + 1, H), x1(num_rooms + 1, -1), y1(num_rooms + 1, -1);
-    std::vector<std::vector<bool>> has(num_rooms + 1, std::vector<bool>(kNumNyu40, false));
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        const int r = rooms.room_extent_ids.at(x, y);
+    // A piece of furniture is an 8-connected group of object cells in one room. A class's evidence in a room
+    // is scaled by its largest share of a piece over min_object_share, capped at 1: a patch of sofa or
+    // television read on a bed counts little, a sofa of its own (or a kitchen counter in an open-plan room)
+    // fully. 0: every class present counts fully (the paper's Eq. 5).
+    auto object_at = [&](int x, int y) {
+      const int k = topview_labels.at(x, y);
+      return k > 0 && k < kNumNyu40 && ObjectGroupOf(k) >= 0 ? k : 0;
+    };
+    std::vector<std::vector<double>> weight(num_rooms + 1, std::vector<double>(kNumNyu40, 0.0));
+    std::vector<int> piece(size_t(W) * H, -1);
+    std::vector<size_t> members;
+    std::vector<int> per_class(kNumNyu40, 0);
+    for (int sy = 0; sy < H; ++sy)
+      for (int sx = 0; sx < W; ++sx) {
+        const size_t s0 = size_t(sy) * W + sx;
+        const int r = rooms.room_extent_ids.data[s0];
         if (r <= 0 || r > num_rooms) continue;
-        x0[r] = std::min(x0[r], x), x1[r] = std::max(x1[r], x), y0[r] = std::min(y0[r], y), y1[r] = std::max(y1[r], y);
-        const int k = topview_labels.at(x, y);
-        if (k > 0 && k < kNumNyu40 && ObjectGroupOf(k) >= 0) has[r][size_t(k)] = true;
+        x0[r] = std::min(x0[r], sx), x1[r] = std::max(x1[r], sx), y0[r] = std::min(y0[r], sy), y1[r] = std::max(y1[r], sy);
+        if (piece[s0] >= 0 || !object_at(sx, sy)) continue;
+        members.assign(1, s0);
+        piece[s0] = int(s0);
+        std::fill(per_class.begin(), per_class.end(), 0);
+        for (size_t m = 0; m < members.size(); ++m) {
+          const int px = int(members[m] % W), py = int(members[m] / W);
+          ++per_class[size_t(object_at(px, py))];
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int nx = px + dx, ny = py + dy;
+              if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+              const size_t q = size_t(ny) * W + nx;
+              if (piece[q] >= 0 || rooms.room_extent_ids.data[q] != r || !object_at(nx, ny)) continue;
+              piece[q] = int(s0);
+              members.push_back(q);
+            }
+        }
+        for (int k = 1; k < kNumNyu40; ++k) {
+          if (!per_class[size_t(k)]) continue;
+          const double share = per_class[size_t(k)] / double(members.size());
+          const double w = options.min_object_share > 0 ? std::min(1.0, share / options.min_object_share) : 1.0;
+          weight[size_t(r)][size_t(k)] = std::max(weight[size_t(r)][size_t(k)], w);
+        }
       }
     const double sigma_px = options.object_sigma_m / res;
     tbb::parallel_for(1, num_rooms + 1, [&](int r) {
       if (x1[r] < 0) return;
       const cv::Rect roi(x0[r], y0[r], x1[r] - x0[r] + 1, y1[r] - y0[r] + 1);
       for (int k = 1; k < kNumNyu40; ++k) {
-        if (!has[r][size_t(k)]) continue;
+        const double w = weight[size_t(r)][size_t(k)];
+        if (w <= 0) continue;
         cv::Mat1b src(roi.height, roi.width, uchar(255));
         for (int y = roi.y; y < roi.y + roi.height; ++y)
           for (int x = roi.x; x < roi.x + roi.width; ++x)
@@ -196,7 +230,7 @@ Result<RoomTypeGraph> BuildRoomTypeGraph(const FloorPlan& plan, const RoomSegmen
             if (rooms.room_extent_ids.at(x, y) != r) continue;
             const int n = g.node_of_pixel[size_t(y) * W + x];
             const double d = dist(y - roi.y, x - roi.x);
-            const double o = std::exp(-d * d / (2 * sigma_px * sigma_px)) / g.pixels[size_t(n)];
+            const double o = w * std::exp(-d * d / (2 * sigma_px * sigma_px)) / g.pixels[size_t(n)];
             // Nodes belong to exactly one room, so rooms write disjoint nodes.
             for (int t = 0; t < kRoomTypeLabels; ++t) g.objects[size_t(n)][size_t(grp)][size_t(t)] += o * model.object_type[size_t(k)][size_t(t)];
           }

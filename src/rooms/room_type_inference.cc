@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <unordered_map>
 
@@ -253,6 +254,43 @@ RoomTypeResult AssignRoomTypes(const RoomTypeGraph& graph, const RoomSegmentatio
   return out;
 }
 
+namespace {
+
+// Pixel-weighted means of each unary term over the (output) rooms' nodes.
+void AddRoomTerms(const RoomTypeGraph& graph, const RoomTypeEnergy& e, RoomTypeResult* r) {
+  const size_t N = graph.segment.size();
+  std::vector<Dist> scene(N), objects(N), shape(N);
+  for (size_t i = 0; i < N; ++i)
+    for (int y = 0; y < kRoomTypeLabels; ++y) {
+      scene[i][size_t(y)] = e.weights.scene * e.Scene(int(i), y);
+      if (e.variant.objects)
+        for (int g = 0; g < kNumObjectGroups; ++g) objects[i][size_t(y)] += e.weights.objects[size_t(g)] * e.Object(int(i), g, y);
+      if (!graph.shape.empty()) shape[i][size_t(y)] = e.options.shape_weight * graph.shape[i][size_t(y)];
+    }
+  std::vector<double> pixels(r->assignments.size() + 1, 0.0);
+  const ImageU16& ids = r->rooms.room_extent_ids;
+  for (size_t p = 0; p < ids.data.size() && p < graph.node_of_pixel.size(); ++p) {
+    const int room = ids.data[p], n = graph.node_of_pixel[p];
+    if (room < 1 || size_t(room) > r->assignments.size() || n < 0) continue;
+    RoomTypeAssignment& a = r->assignments[size_t(room - 1)];
+    pixels[size_t(room)] += 1;
+    for (int y = 0; y < kRoomTypeLabels; ++y) {
+      a.scene_term[size_t(y)] += scene[size_t(n)][size_t(y)];
+      a.object_term[size_t(y)] += objects[size_t(n)][size_t(y)];
+      a.shape_term[size_t(y)] += shape[size_t(n)][size_t(y)];
+    }
+  }
+  for (size_t k = 0; k < r->assignments.size(); ++k)
+    if (pixels[k + 1] > 0)
+      for (int y = 0; y < kRoomTypeLabels; ++y) {
+        r->assignments[k].scene_term[size_t(y)] /= pixels[k + 1];
+        r->assignments[k].object_term[size_t(y)] /= pixels[k + 1];
+        r->assignments[k].shape_term[size_t(y)] /= pixels[k + 1];
+      }
+}
+
+}  // namespace
+
 std::vector<RoomShape> SetRoomShapeEvidence(const RoomSegmentation& rooms, const FloorPlan& plan, const RoomShapeModel& shapes,
                                             RoomTypeGraph* graph) {
   std::vector<RoomShape> measured = MeasureRoomShapes(rooms.room_extent_ids, rooms.num_rooms, plan.resolution_m);
@@ -285,6 +323,7 @@ Result<RoomTypeResult> InferRoomTypes(const FloorPlan& plan, const RoomSegmentat
   std::vector<RoomShape> measured;
   if (shapes) measured = SetRoomShapeEvidence(rooms, plan, *shapes, &*graph);
   std::vector<Dist> marginals;
+  std::optional<RoomTypeEnergy> energy;
   switch (method) {
     case RoomTypeMethod::kMajorityVoting:
       marginals = MajorityVoting(*graph);
@@ -295,10 +334,12 @@ Result<RoomTypeResult> InferRoomTypes(const FloorPlan& plan, const RoomSegmentat
     case RoomTypeMethod::kGibbsCrf: {
       RoomTypeEnergy e{&*graph, &model, options.variant, model.WeightsFor(options.variant), options};
       marginals = GibbsMarginals(e, options);
+      energy = e;
       break;
     }
   }
   RoomTypeResult r = AssignRoomTypes(*graph, rooms, plan, std::move(marginals), options);
+  if (energy) AddRoomTerms(*graph, *energy, &r);
   r.shapes = std::move(measured);
   r.seconds = Seconds(t0);
   return r;

@@ -126,11 +126,15 @@ TEST(SceneFrame, CloudWithoutNormalsTurnedTiltedShifted) {
   }
 }
 
-// Shifted by less than a voxel and nothing else: the canonical frame shifts it back onto the grid (x, y; the
-// floor's own rule takes z back to 0), and a shift under snap_shift_m is left alone.
+// Shifted by less than a voxel and nothing else: by default a level, axis-aligned scan keeps its grid; with
+// phase_only_when_turned off the canonical frame shifts it back onto the grid (x, y; the floor's own rule
+// takes z back to 0), and a shift under snap_shift_m is left alone.
 TEST(SceneFrame, WallsAreShiftedOntoVoxelBoundaries) {
   const Eigen::Isometry3d pose = Pose(0.0, 0.0, Eigen::Vector3d(0.013, -0.021, 0.0));
-  const SceneFrame f = EstimateSceneFrame(MeshScene(pose));
+  EXPECT_TRUE(EstimateSceneFrame(MeshScene(pose)).shift.isZero());
+  SceneFrameOptions always;
+  always.phase_only_when_turned = false;
+  const SceneFrame f = EstimateSceneFrame(MeshScene(pose), always);
   std::printf("shift (%.4f %.4f) m, phase concentration (%.2f %.2f)\n", f.shift.x(), f.shift.y(), f.phase_concentration.x(),
               f.phase_concentration.y());
   EXPECT_NEAR(f.shift.x(), 0.013, 0.0015);
@@ -138,10 +142,10 @@ TEST(SceneFrame, WallsAreShiftedOntoVoxelBoundaries) {
   EXPECT_GT(f.phase_concentration.minCoeff(), 0.3);
   const Eigen::Vector3d back = (f.canonical_from_input * pose).translation();
   EXPECT_LT(back.head<2>().cwiseAbs().maxCoeff(), 0.0015) << back.transpose();
-  SceneFrameOptions off;
+  SceneFrameOptions off = always;
   off.wall_phase = false;
   EXPECT_TRUE(EstimateSceneFrame(MeshScene(pose), off).shift.isZero());
-  const SceneFrame tiny = EstimateSceneFrame(MeshScene(Pose(0.0, 0.0, Eigen::Vector3d(0.001, 0.0, 0.0))));
+  const SceneFrame tiny = EstimateSceneFrame(MeshScene(Pose(0.0, 0.0, Eigen::Vector3d(0.001, 0.0, 0.0))), always);
   EXPECT_TRUE(tiny.shift.isZero()) << tiny.shift.transpose();
 }
 
@@ -152,12 +156,15 @@ TEST(SceneFrame, AxisAlignedGivesExactlyTheIdentity) {
   EXPECT_EQ(f.yaw_deg, 0.0);
   EXPECT_EQ(f.floor_z, 0.0);
   EXPECT_TRUE(f.warnings.empty());
-  // The bundled demo apartment, as `semvox run` loads it: level, axis-aligned, the floor at 0, but its walls'
-  // phase is half a voxel (their mean lies at voxel centres; measured concentration 0.54 on both axes):
-  // shifted by half a voxel, nothing else.
+  // The bundled demo apartment, as `semvox run` loads it: level, axis-aligned, the floor at 0: exactly the
+  // identity, although its walls' phase is half a voxel (their mean lies at voxel centres; measured
+  // concentration 0.54 on both axes). With phase_only_when_turned off it is shifted by half a voxel, nothing else.
   Result<Scene> demo = LoadScene(std::string(SEMVOX_SOURCE_DIR) + "/scenes/demo_apartment.ply", LoadOptions());
   ASSERT_TRUE(demo.ok()) << demo.status().message();
-  const SceneFrame d = EstimateSceneFrame(demo.value());
+  EXPECT_TRUE(EstimateSceneFrame(demo.value()).identity());
+  SceneFrameOptions always;
+  always.phase_only_when_turned = false;
+  const SceneFrame d = EstimateSceneFrame(demo.value(), always);
   EXPECT_TRUE(d.canonical_from_input.linear().isIdentity()) << d.canonical_from_input.matrix();
   EXPECT_EQ(d.canonical_from_input.translation().z(), 0.0);
   for (int axis = 0; axis < 2; ++axis) EXPECT_NEAR(std::fabs(d.shift[axis]), 0.025, 0.001) << d.shift.transpose();

@@ -77,6 +77,20 @@ TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
   EXPECT_EQ(types[1], 6);  // Kitchen.
   EXPECT_EQ(types[2], 2);  // Bedroom.
   EXPECT_EQ(summary["room_types"]["rooms"].size(), 2u);
+  // Which evidence decided: the scene term (weight 5 on the identity confusion) names each room's view type;
+  // the shape term is off, so its entries are 0.
+  for (const auto& r : summary["room_types"]["rooms"]) {
+    const auto& scene = r.at("terms").at("scene");
+    const std::string want = r.at("id").get<int>() == 1 ? "kitchen" : "bedroom";
+    std::string best;
+    double best_value = -1e9;
+    for (const auto& [name, v] : scene.items())
+      if (v.get<double>() > best_value) best_value = v.get<double>(), best = name;
+    EXPECT_EQ(best, want);
+    EXPECT_EQ(scene.size(), size_t(kRoomTypeLabels));
+    for (const auto& [name, v] : r.at("terms").at("shape").items()) EXPECT_EQ(v.get<double>(), 0.0) << name;
+    EXPECT_EQ(r.at("terms").at("objects").size(), size_t(kRoomTypeLabels));
+  }
   // A missing model: one error naming the file.
   options.model_path = (dir / "missing.json").string();
   const Status bad = RunRoomTypeStage(plan, rooms, views, {}, options, dir.string(), nullptr);
