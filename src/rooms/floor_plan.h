@@ -54,7 +54,10 @@ struct FloorPlan {
 
 struct FloorPlanOptions {
   double door_min_width_m = 0.55;
-  double door_max_width_m = 1.3;          // >= door_min_width_m.
+  // >= door_min_width_m. 2.6 since 2026-12-04 (was 1.3): sliding doors of real flats (R2V plans: 31 % of the
+  // doors wider than 1.3 m, balcony doors mostly 1.4-1.9 m, up to 2.5) are door openings with a lintel too;
+  // chosen on R2V training plans 250-269 (docs/rooms.md). Lintel detection only: 2D maps are not affected.
+  double door_max_width_m = 2.6;
   double door_min_height_m = 1.85;
   double lintel_ceiling_gap_m = 0.15;
   double wall_min_height_m = 2.2;         // Taller than wardrobes and doors.
