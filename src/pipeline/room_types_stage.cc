@@ -80,16 +80,13 @@ nlohmann::ordered_json RoomTypesSummaryJson(const RoomTypesStageResult& typed) {
     for (int y = 0; y < kRoomTypeLabels; ++y) o[RoomTypes()[size_t(y + 1)].name] = std::round(t[size_t(y)] * 1e3) / 1e3;
     return o;
   };
+  // ... and the shape the room-shape term saw, per input room.
   for (size_t i = 0; i < j["rooms"].size(); ++i) {
     const int id = j["rooms"][i]["id"].get<int>();
     if (id < 1 || id > int(result.assignments.size())) continue;
     const RoomTypeAssignment& a = result.assignments[size_t(id - 1)];
     j["rooms"][i]["terms"] = {{"scene", terms(a.scene_term)}, {"objects", terms(a.object_term)}, {"shape", terms(a.shape_term)}};
-  }
-  // The shape the room-shape term saw, per input room.
-  for (size_t i = 0; i < j["rooms"].size(); ++i) {
-    const int id = j["rooms"][i]["id"].get<int>();
-    const int source = id >= 1 && id <= int(result.assignments.size()) ? result.assignments[size_t(id - 1)].source_room : 0;
+    const int source = a.source_room;
     if (source < 1 || source > int(result.shapes.size())) continue;
     const RoomShape& s = result.shapes[size_t(source - 1)];
     j["rooms"][i]["shape"] = {{"area_m2", std::round(s.area_m2 * 100) / 100}, {"aspect", std::round(s.aspect * 100) / 100},

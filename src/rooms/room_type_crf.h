@@ -248,6 +248,10 @@ struct RoomTypeEnergy {
   // Feature vector entries: [scene, obj1..4, hom]; the shape term (options.shape_weight) is fixed, not learnt.
   double Scene(int i, int y) const;
   double Object(int i, int g, int y) const;
+  // The unary's weighted parts (Unary is their sum, in this order; the per-room terms of RoomTypeAssignment).
+  double SceneTerm(int i, int y) const;
+  double ObjectTerm(int i, int g, int y) const;
+  double ShapeTerm(int i, int y) const;  // 0 without a shape model.
   double Unary(int i, int y) const;
   // f(y_i, g_i, y_j, g_j, d) of the variant for a pair (same type?, same segment?, distance), unweighted.
   double Pair(bool same_type, bool same_segment, double distance_m) const;

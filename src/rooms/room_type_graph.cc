@@ -178,7 +178,7 @@ Result<RoomTypeGraph> BuildRoomTypeGraph(const FloorPlan& plan, const RoomSegmen
       return k > 0 && k < kNumNyu40 && ObjectGroupOf(k) >= 0 ? k : 0;
     };
     std::vector<std::vector<double>> weight(num_rooms + 1, std::vector<double>(kNumNyu40, 0.0));
-    std::vector<int> piece(size_t(W) * H, -1);
+    std::vector<uint8_t> in_piece(size_t(W) * H, 0);
     std::vector<size_t> members;
     std::vector<int> per_class(kNumNyu40, 0);
     for (int sy = 0; sy < H; ++sy)
@@ -187,9 +187,9 @@ Result<RoomTypeGraph> BuildRoomTypeGraph(const FloorPlan& plan, const RoomSegmen
         const int r = rooms.room_extent_ids.data[s0];
         if (r <= 0 || r > num_rooms) continue;
         x0[r] = std::min(x0[r], sx), x1[r] = std::max(x1[r], sx), y0[r] = std::min(y0[r], sy), y1[r] = std::max(y1[r], sy);
-        if (piece[s0] >= 0 || !object_at(sx, sy)) continue;
+        if (in_piece[s0] || !object_at(sx, sy)) continue;
         members.assign(1, s0);
-        piece[s0] = int(s0);
+        in_piece[s0] = 1;
         std::fill(per_class.begin(), per_class.end(), 0);
         for (size_t m = 0; m < members.size(); ++m) {
           const int px = int(members[m] % W), py = int(members[m] / W);
@@ -199,8 +199,8 @@ Result<RoomTypeGraph> BuildRoomTypeGraph(const FloorPlan& plan, const RoomSegmen
               const int nx = px + dx, ny = py + dy;
               if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
               const size_t q = size_t(ny) * W + nx;
-              if (piece[q] >= 0 || rooms.room_extent_ids.data[q] != r || !object_at(nx, ny)) continue;
-              piece[q] = int(s0);
+              if (in_piece[q] || rooms.room_extent_ids.data[q] != r || !object_at(nx, ny)) continue;
+              in_piece[q] = 1;
               members.push_back(q);
             }
         }
@@ -278,11 +278,19 @@ double RoomTypeEnergy::Scene(int i, int y) const {
 
 double RoomTypeEnergy::Object(int i, int g, int y) const { return graph->objects[size_t(i)][size_t(g)][size_t(y)]; }
 
+double RoomTypeEnergy::SceneTerm(int i, int y) const { return weights.scene * Scene(i, y); }
+
+double RoomTypeEnergy::ObjectTerm(int i, int g, int y) const { return weights.objects[size_t(g)] * Object(i, g, y); }
+
+double RoomTypeEnergy::ShapeTerm(int i, int y) const {
+  return graph->shape.empty() ? 0.0 : options.shape_weight * graph->shape[size_t(i)][size_t(y)];
+}
+
 double RoomTypeEnergy::Unary(int i, int y) const {
-  double u = weights.scene * Scene(i, y);
+  double u = SceneTerm(i, y);
   if (variant.objects)
-    for (int g = 0; g < kNumObjectGroups; ++g) u += weights.objects[size_t(g)] * Object(i, g, y);
-  if (!graph->shape.empty()) u += options.shape_weight * graph->shape[size_t(i)][size_t(y)];
+    for (int g = 0; g < kNumObjectGroups; ++g) u += ObjectTerm(i, g, y);
+  if (!graph->shape.empty()) u += ShapeTerm(i, y);
   return u;
 }
 

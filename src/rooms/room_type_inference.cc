@@ -262,10 +262,10 @@ void AddRoomTerms(const RoomTypeGraph& graph, const RoomTypeEnergy& e, RoomTypeR
   std::vector<Dist> scene(N), objects(N), shape(N);
   for (size_t i = 0; i < N; ++i)
     for (int y = 0; y < kRoomTypeLabels; ++y) {
-      scene[i][size_t(y)] = e.weights.scene * e.Scene(int(i), y);
+      scene[i][size_t(y)] = e.SceneTerm(int(i), y);
       if (e.variant.objects)
-        for (int g = 0; g < kNumObjectGroups; ++g) objects[i][size_t(y)] += e.weights.objects[size_t(g)] * e.Object(int(i), g, y);
-      if (!graph.shape.empty()) shape[i][size_t(y)] = e.options.shape_weight * graph.shape[i][size_t(y)];
+        for (int g = 0; g < kNumObjectGroups; ++g) objects[i][size_t(y)] += e.ObjectTerm(int(i), g, y);
+      shape[i][size_t(y)] = e.ShapeTerm(int(i), y);
     }
   std::vector<double> pixels(r->assignments.size() + 1, 0.0);
   const ImageU16& ids = r->rooms.room_extent_ids;
