@@ -180,20 +180,36 @@ void SegmentByDistance(const RoomSegmentationOptions& o, double res, Workspace* 
   cv::Mat1b inner = ws->space & ~ws->door;
   cv::Mat1f dist;
   cv::distanceTransform(inner, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  // Wall-gap lines are passes of height zero (the flood reaches them last); whether the rooms on their
-  // two sides stay apart depends on the line's half length against the smaller room's inscribed radius.
+  // Wall-gap lines are passes of (almost) zero height (the flood reaches them just before the door openings);
+  // whether the rooms on their two sides stay apart depends on the line's half length against the smaller
+  // room's inscribed radius.
   cv::Mat1f lines(dist.rows, dist.cols, 0.f);
   if (o.wall_gap_max_m > 0) {
     lines = WallGapLines(res, o.wall_gap_max_m, *ws);
-    dist.setTo(0.f, lines > 0);
+    // Half a cell: below every free cell (at least one cell from an obstacle) and above the door openings
+    // (0), which are flooded last. A door's rooms then meet at the door, where the door rule decides, not at
+    // a line the flood reached through the door's cells.
+    dist.setTo(0.5f, (lines > 0) & (ws->door == 0));
   }
   const float door_half_px = float(0.5 * o.max_opening_width_m / res);
   const float min_radius_px = float(o.min_room_radius_m / res);
+  const float door_min_radius_px = float(std::min(o.door_min_room_radius_m, o.min_room_radius_m) / res);
   const float ratio = float(o.saddle_ratio), ratio_larger = float(o.saddle_ratio_larger);
   const float line_ratio = float(o.wall_gap_ratio);
   const float* line_half = lines.ptr<float>(0);
+  // Door openings and the cells within kDoorZoneM of them: the pass or a wall-gap line through the doorway
+  // may run a cell or two beside the lintel's cells (a sparse scan sees a lintel in patches).
+  constexpr double kDoorZoneM = 0.15;
+  const int zone_px = std::max(1, int(std::lround(kDoorZoneM / res)));
+  cv::Mat1b door_zone;
+  cv::dilate(ws->door, door_zone, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * zone_px + 1, 2 * zone_px + 1)));
+  const uchar* door = door_zone.ptr<uchar>(0);
   Flood(dist,
         [&](const Basin& a, const Basin& b, float d, int p) {  // a.peak >= b.peak; d: the pass at cell p.
+          // A door opening (under a lintel) is a room border whatever else the pass looks like: the rooms
+          // stay apart when the smaller is room-sized, and a closet or WC behind a door is room-sized down to
+          // door_min_room_radius_m. A wall-gap line through a door does not decide.
+          if (door[p]) return b.peak >= door_min_radius_px;
           if (b.peak < min_radius_px) return false;
           if (line_half[p] > 0) return line_half[p] < line_ratio * b.peak;
           return d <= door_half_px && (d < ratio * b.peak || d < ratio_larger * a.peak);

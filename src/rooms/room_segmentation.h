@@ -8,7 +8,10 @@
 //    flooded from its maxima downwards (a watershed by union-find, cf. Najman & Couprie 2006). Where two
 //    basins meet at a pass of height d (the half-width of the opening), they stay separate rooms only when
 //    the pass looks like a doorway: d <= max_opening_width_m / 2, d < saddle_ratio * (the smaller basin's
-//    peak), and both basins are room-sized (peak >= min_room_radius_m). Otherwise they merge.
+//    peak), and both basins are room-sized (peak >= min_room_radius_m). Otherwise they merge. A door
+//    opening (door cells, under a lintel seen in 3D, and cells within 0.15 m of them) is flooded last and
+//    always a border: rooms meeting there stay apart when the smaller has an inscribed radius of at least
+//    door_min_room_radius_m (closets and WCs 0.6 m wide), whatever a wall-gap line through the door says.
 //  - kMorphological ("morphological"), after Bormann et al., ICRA 2016, Sec. III-A: the room space is
 //    eroded step by step (a 3x3 square); where the erosion splits a part in two and both pieces still
 //    cover min_seed_area_m2, they become separate room seeds; the seeds then grow back over the space
@@ -46,6 +49,8 @@ struct RoomSegmentationOptions {
   double wall_gap_max_m = 2.5;
   double wall_gap_ratio = 1.0;
   double min_room_radius_m = 0.3;    // Alcoves, niches and gaps between furniture never stay apart.
+  double door_min_room_radius_m = 0.15;  // Behind a door opening (door cells: under a lintel) narrower rooms stay
+                                         // apart: closets and WCs 0.6 m wide. >= 0; above min_room_radius_m: no effect.
   double min_room_area_m2 = 0.5;     // A closet is 0.5 m².
   double min_seed_area_m2 = 1.0;
   double max_speck_distance_m = 0.5;
@@ -66,6 +71,9 @@ struct RoomSegmentationOptions {
                      "distance: ... or of the larger room's inscribed radius"),
         OptionNumber(&O::min_room_radius_m, "min_room_radius_m", 0, 10, "metres",
                      "distance: rooms need at least this inscribed radius"),
+        OptionNumber(&O::door_min_room_radius_m, "door_min_room_radius_m", 0, 10, "metres",
+                     "distance: rooms that meet their neighbour only across a door opening need at least this "
+                     "inscribed radius"),
         OptionNumber(&O::wall_gap_max_m, "wall_gap_max_m", 0, 20, "metres",
                      "distance: gaps from a thin wall's end straight on to an obstacle up to this long are candidate "
                      "room borders (0 = off)"),

@@ -83,6 +83,32 @@ TEST(SegmentRooms, DoorCellsFromTheVoxelMapSeparateRooms) {
   }
 }
 
+// A closet 0.5 m deep (inscribed radius 0.25 m, under min_room_radius_m) opening along its whole 1.5 m
+// width into a 4 m room: the opening lies on the straight continuation of the room's wall, so a wall-gap
+// line runs through it. Without door cells it is an alcove of the room. With door cells across it (a
+// lintel seen in 3D) it is a room of its own, however the line and the narrow radius would decide; with
+// door_min_room_radius_m at min_room_radius_m (the rule before 2026-12-05) it merges again.
+TEST(SegmentRooms, ClosetBehindADoorOpeningIsARoomThoughNarrow) {
+  GreyMap map(130, 90);                // 6.5 m x 4.5 m.
+  map.Fill(0.5, 0.5, 4.5, 4.0, 255);   // The room.
+  map.Fill(4.6, 1.0, 5.1, 2.5, 255);   // The closet, 0.5 m x 1.5 m, behind a 0.1 m wall at x = 4.5 m ...
+  map.Fill(4.5, 1.0, 4.6, 2.5, 255);   // ... which is open over the closet's whole width.
+  FloorPlan plan = FloorPlanFromImage(map.image, 0.05, FloorPlanOptions());
+  const RoomSegmentationOptions o;
+  ASSERT_GT(o.wall_gap_max_m, 1.5);
+  EXPECT_EQ(SegmentRooms(plan, o).num_rooms, 1) << "an open alcove belongs to the room";
+  for (int y = 20; y < 50; ++y)
+    for (int x = 90; x < 92; ++x)
+      if (plan.at(x, y) == FloorCell::kFree) plan.cells.at(x, y) = uint8_t(FloorCell::kDoor);
+  const RoomSegmentation rooms = SegmentRooms(plan, o);
+  EXPECT_EQ(rooms.num_rooms, 2);
+  ExpectEveryFloorCellInOneRoom(plan, rooms);
+  EXPECT_NE(rooms.room_ids.at(40, 40), rooms.room_ids.at(98, 35));
+  RoomSegmentationOptions old_rule = o;
+  old_rule.door_min_room_radius_m = old_rule.min_room_radius_m;
+  EXPECT_EQ(SegmentRooms(plan, old_rule).num_rooms, 1);
+}
+
 // Property: on random furnished floor plans (rooms on a grid with random doors, random furniture and
 // specks), every floor cell ends in exactly one room, whatever the method.
 TEST(SegmentRooms, EveryFloorCellInExactlyOneRoomOnRandomPlans) {
