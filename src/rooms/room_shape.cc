@@ -233,52 +233,80 @@ RoomShapeModel TrainRoomShapeModel(const std::vector<RoomShapeSample>& samples, 
   return m;
 }
 
+namespace {
+
+// The 0.95 quantile of the chi-square distribution with k degrees of freedom (k = 1..8; the Wilson-Hilferty
+// approximation above).
+double ChiSquare95(int k) {
+  static constexpr double kTable[] = {0, 3.841, 5.991, 7.815, 9.488, 11.070, 12.592, 14.067, 15.507};
+  if (k >= 1 && k <= 8) return kTable[k];
+  const double a = 2.0 / (9.0 * k);
+  return k * std::pow(1 - a + 1.6449 * std::sqrt(a), 3);
+}
+
+}  // namespace
+
 std::array<double, kRoomShapeTypes> LogLikelihoodRatios(const RoomShapeModel& model, const RoomShape& shape, bool open_plan) {
   const int F = int(model.features.size());
   std::array<double, kRoomShapeTypes> out{};
   const auto all = shape.Vector();
-  // A room without a neighbour shows nothing of its place in the flat (a scan of one room, or of a room whose
-  // neighbours were not scanned): its connection and exterior features are not observed, and the Gaussians
-  // are marginalised over them (the sub-vector's mean and the covariance's sub-block).
-  std::vector<int> used;
-  for (int i = 0; i < F; ++i) {
-    const int f = model.features[size_t(i)];
-    if (shape.connections <= 0 && (f == 4 || f == 5)) continue;
-    used.push_back(i);
-  }
-  const int U = int(used.size());
-  Eigen::VectorXd v(U);
-  for (int k = 0; k < U; ++k) v(k) = all[size_t(model.features[size_t(used[size_t(k)])])];
-  std::array<double, kRoomShapeTypes> log_p{};
-  double best = -1e300;
-  int modelled = 0;
-  for (int t = 0; t < kRoomShapeTypes; ++t) {
-    const RoomShapeModel::TypeModel& tm = model.types[size_t(t)];
-    if (tm.rooms <= 0 || U == 0 || tm.mean.size() != size_t(F) || tm.inverse_covariance.size() != size_t(F) * F) continue;
-    Eigen::MatrixXd inverse(F, F);
-    for (int i = 0; i < F; ++i)
-      for (int j = 0; j < F; ++j) inverse(i, j) = tm.inverse_covariance[size_t(i * F + j)];
-    Eigen::MatrixXd inv_sub(U, U);
-    double log_det = tm.log_det_covariance;
-    if (U == F) {
-      inv_sub = inverse;
-    } else {
-      const Eigen::MatrixXd cov = inverse.inverse();
-      Eigen::MatrixXd sub(U, U);
-      for (int a = 0; a < U; ++a)
-        for (int b = 0; b < U; ++b) sub(a, b) = cov(used[size_t(a)], used[size_t(b)]);
-      const Eigen::LLT<Eigen::MatrixXd> llt(sub);
-      if (llt.info() != Eigen::Success) continue;
-      inv_sub = llt.solve(Eigen::MatrixXd::Identity(U, U));
-      log_det = 0;
-      for (int a = 0; a < U; ++a) log_det += 2 * std::log(llt.matrixL()(a, a));
+  // Log-likelihood (up to a constant) and squared Mahalanobis distance of the room under each type's Gaussian,
+  // over the features `place` allows: false marginalises the Gaussians over the connection and exterior
+  // features (the sub-vector's mean and the covariance's sub-block).
+  std::array<double, kRoomShapeTypes> log_p{}, mahalanobis{};
+  double best = -1e300, nearest = 1e300;
+  int modelled = 0, used_count = 0;
+  auto evaluate = [&](bool place) {
+    std::vector<int> used;
+    for (int i = 0; i < F; ++i) {
+      const int f = model.features[size_t(i)];
+      if (!place && (f == 4 || f == 5)) continue;
+      used.push_back(i);
     }
-    Eigen::VectorXd d(U);
-    for (int k = 0; k < U; ++k) d(k) = v(k) - tm.mean[size_t(used[size_t(k)])];
-    log_p[size_t(t)] = -0.5 * (d.dot(inv_sub * d) + log_det);
-    best = std::max(best, log_p[size_t(t)]);
-    ++modelled;
-  }
+    const int U = int(used.size());
+    used_count = U;
+    best = -1e300, nearest = 1e300, modelled = 0;
+    log_p.fill(0), mahalanobis.fill(0);
+    Eigen::VectorXd v(U);
+    for (int k = 0; k < U; ++k) v(k) = all[size_t(model.features[size_t(used[size_t(k)])])];
+    for (int t = 0; t < kRoomShapeTypes; ++t) {
+      const RoomShapeModel::TypeModel& tm = model.types[size_t(t)];
+      if (tm.rooms <= 0 || U == 0 || tm.mean.size() != size_t(F) || tm.inverse_covariance.size() != size_t(F) * F) continue;
+      Eigen::MatrixXd inverse(F, F);
+      for (int i = 0; i < F; ++i)
+        for (int j = 0; j < F; ++j) inverse(i, j) = tm.inverse_covariance[size_t(i * F + j)];
+      Eigen::MatrixXd inv_sub(U, U);
+      double log_det = tm.log_det_covariance;
+      if (U == F) {
+        inv_sub = inverse;
+      } else {
+        const Eigen::MatrixXd cov = inverse.inverse();
+        Eigen::MatrixXd sub(U, U);
+        for (int a = 0; a < U; ++a)
+          for (int b = 0; b < U; ++b) sub(a, b) = cov(used[size_t(a)], used[size_t(b)]);
+        const Eigen::LLT<Eigen::MatrixXd> llt(sub);
+        if (llt.info() != Eigen::Success) continue;
+        inv_sub = llt.solve(Eigen::MatrixXd::Identity(U, U));
+        log_det = 0;
+        for (int a = 0; a < U; ++a) log_det += 2 * std::log(llt.matrixL()(a, a));
+      }
+      Eigen::VectorXd d(U);
+      for (int k = 0; k < U; ++k) d(k) = v(k) - tm.mean[size_t(used[size_t(k)])];
+      mahalanobis[size_t(t)] = d.dot(inv_sub * d);
+      log_p[size_t(t)] = -0.5 * (mahalanobis[size_t(t)] + log_det);
+      best = std::max(best, log_p[size_t(t)]);
+      nearest = std::min(nearest, mahalanobis[size_t(t)]);
+      ++modelled;
+    }
+  };
+  // A room without a neighbour shows nothing of its place in the flat (a scan of one room, or of a room whose
+  // neighbours were not scanned): its connection and exterior features are not observed. A room whose place
+  // is unlike any type's in the plans (outside every type's 95 % ellipsoid with them, e.g. the main room of a
+  // studio: 90 % of the flat, one connection, nearly all of its edge outside) is judged the same way, by its
+  // own four features: far outside the Gaussians their ratios say only which type is the broadest.
+  const bool has_place = shape.connections > 0;
+  evaluate(has_place);
+  if (has_place && modelled > 0 && nearest > ChiSquare95(used_count)) evaluate(false);
   if (modelled == 0) return out;
   double z = 0;
   for (int t = 0; t < kRoomShapeTypes; ++t)

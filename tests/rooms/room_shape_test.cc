@@ -152,6 +152,16 @@ TEST(RoomShape, RoomWithoutNeighboursIsScoredOnTheMarginalOfTheOtherFeatures) {
   RoomShape hub = lone;
   hub.connections = 4, hub.exterior_share = 0.5;
   EXPECT_GT(LogLikelihoodRatios(all, hub)[7] - LogLikelihoodRatios(all, hub)[1], a[7] - a[1]);
+  // A place no type has in the samples (one connection and all of its edge outside, for a room the size of a
+  // living room: a studio's main room) is outside every type's 95 % ellipsoid: the room is judged by its four
+  // own features, as without neighbours. Its size alone says living room.
+  RoomShape studio = Square(22.0);
+  studio.area_share = 0.55, studio.exterior_share = 1.0, studio.connections = 1;
+  RoomShape studio_alone = studio;
+  studio_alone.connections = 0;
+  const auto s = LogLikelihoodRatios(all, studio), s4 = LogLikelihoodRatios(four, studio_alone);
+  for (int t = 0; t < kRoomShapeTypes; ++t) EXPECT_NEAR(s[size_t(t)], s4[size_t(t)], 1e-9) << t;
+  EXPECT_GT(s[7], s[1]);
 }
 
 TEST(RoomShape, AdjacencyIsLearntFromNeighbourPairsAndMovesAnAmbiguousRoom) {
