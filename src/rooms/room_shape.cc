@@ -253,7 +253,7 @@ std::array<double, kRoomShapeTypes> LogLikelihoodRatios(const RoomShapeModel& mo
   // Log-likelihood (up to a constant) and squared Mahalanobis distance of the room under each type's Gaussian,
   // over the features `place` allows: false marginalises the Gaussians over the connection and exterior
   // features (the sub-vector's mean and the covariance's sub-block).
-  std::array<double, kRoomShapeTypes> log_p{}, mahalanobis{};
+  std::array<double, kRoomShapeTypes> log_p{};
   double best = -1e300, nearest = 1e300;
   int modelled = 0, used_count = 0;
   auto evaluate = [&](bool place) {
@@ -266,7 +266,7 @@ std::array<double, kRoomShapeTypes> LogLikelihoodRatios(const RoomShapeModel& mo
     const int U = int(used.size());
     used_count = U;
     best = -1e300, nearest = 1e300, modelled = 0;
-    log_p.fill(0), mahalanobis.fill(0);
+    log_p.fill(0);
     Eigen::VectorXd v(U);
     for (int k = 0; k < U; ++k) v(k) = all[size_t(model.features[size_t(used[size_t(k)])])];
     for (int t = 0; t < kRoomShapeTypes; ++t) {
@@ -292,10 +292,10 @@ std::array<double, kRoomShapeTypes> LogLikelihoodRatios(const RoomShapeModel& mo
       }
       Eigen::VectorXd d(U);
       for (int k = 0; k < U; ++k) d(k) = v(k) - tm.mean[size_t(used[size_t(k)])];
-      mahalanobis[size_t(t)] = d.dot(inv_sub * d);
-      log_p[size_t(t)] = -0.5 * (mahalanobis[size_t(t)] + log_det);
+      const double mahalanobis = d.dot(inv_sub * d);
+      log_p[size_t(t)] = -0.5 * (mahalanobis + log_det);
       best = std::max(best, log_p[size_t(t)]);
-      nearest = std::min(nearest, mahalanobis[size_t(t)]);
+      nearest = std::min(nearest, mahalanobis);
       ++modelled;
     }
   };
