@@ -87,7 +87,7 @@ TEST(SegmentRooms, DoorCellsFromTheVoxelMapSeparateRooms) {
 // width into a 4 m room: the opening lies on the straight continuation of the room's wall, so a wall-gap
 // line runs through it. Without door cells it is an alcove of the room. With door cells across it (a
 // lintel seen in 3D) it is a room of its own, however the line and the narrow radius would decide; with
-// door_min_room_radius_m at min_room_radius_m (the rule before 2026-12-05) it merges again.
+// door_min_room_radius_m at min_room_radius_m (no exception for narrow rooms behind a door) it merges again.
 TEST(SegmentRooms, ClosetBehindADoorOpeningIsARoomThoughNarrow) {
   GreyMap map(130, 90);                // 6.5 m x 4.5 m.
   map.Fill(0.5, 0.5, 4.5, 4.0, 255);   // The room.
