@@ -129,10 +129,11 @@ struct TrainArgs {
   std::string segment_classifier = "knn";   // knn (object_segments.knn) or forest (object_segments.forest).
   std::string voxel_crf_seeds = "0-7";      // Generator seeds the Voxel-CRF weights are learned on.
   int voxel_crf_epochs = 12;                // Structural-SVM epochs.
-  // Scans the Voxel-CRF weights learn on: flat (the generator's meshes), randomised (the training scans of
-  // the real-scans work: palettes, textures, simulated clouds) or mixed (alternating, first flat), so that one
-  // set of weights serves clean meshes and real-looking scans.
-  std::string voxel_crf_style = "mixed";
+  // Scans the Voxel-CRF weights learn on: flat (the generator's meshes; the default since 2026-12-05, because
+  // `semvox run` gives voxel_crf.txt only to meshes coloured as the generator colours them), randomised (the
+  // training scans of the real-scans work: palettes, textures, simulated clouds), mixed (alternating, first
+  // flat) or cloud (simulated fused clouds, written to voxel_crf_cloud.txt).
+  std::string voxel_crf_style = "flat";
   // When >= 0, w_appearance (the per-view evidence) is held at this value instead of learned: the weight
   // the flat-trained model gives it, so that clean meshes keep their labels while the other weights (the
   // segment term among them) learn on mixed scans.

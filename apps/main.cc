@@ -142,7 +142,7 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--voxel-crf-seeds", train.voxel_crf_seeds, "generator seeds for the Voxel-CRF weights, e.g. 0-7");
   train_cmd->add_option("--voxel-crf-epochs", train.voxel_crf_epochs, "structural-SVM epochs of the Voxel-CRF")->check(CLI::PositiveNumber);
   train_cmd->add_option("--voxel-crf-style", train.voxel_crf_style,
-                        "scans the Voxel-CRF learns on: flat, randomised, mixed (alternating seeds; the default; writes voxel_crf.txt) or cloud (simulated fused clouds; writes voxel_crf_cloud.txt, used for point-cloud input)")
+                        "scans the Voxel-CRF learns on: flat (the generator's meshes; the default), randomised or mixed (alternating seeds), each writing voxel_crf.txt (used for flat-coloured meshes), or cloud (simulated fused clouds; writes voxel_crf_cloud.txt, used for point clouds and scanned meshes)")
       ->check(CLI::IsMember({"flat", "randomised", "randomized", "mixed", "cloud"}));
   train_cmd->add_option("--voxel-crf-appearance-weight", train.voxel_crf_appearance_weight,
                         "hold the Voxel-CRF's per-view evidence weight at this value instead of learning it (default: learned)")

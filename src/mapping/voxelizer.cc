@@ -370,6 +370,7 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, co
   std::vector<std::pair<double, double>> up, down;  // (z, area) of upward / downward-facing surfaces.
   if (scene.is_mesh()) {
     VoxelizeMeshSurface(scene.mesh, &grid);
+    map.exact_surface = true;
     for (const auto& t : scene.mesh.faces) {
       const Eigen::Vector3d a = scene.mesh.vertices[t[0]].cast<double>(), b = scene.mesh.vertices[t[1]].cast<double>(),
                             c = scene.mesh.vertices[t[2]].cast<double>();

@@ -84,6 +84,9 @@ struct VoxelMap {
   // Clouds: the grid indices of the voxels that hold at least one input point, ascending (the disc splats
   // of VoxelizeCloudSurface occupy more). Empty for meshes, whose occupied voxels are all exact surface.
   std::vector<uint32_t> point_voxels;
+  // True for a mesh: every occupied voxel is one the input surface passes through (the Voxel-CRF keeps them
+  // occupied, as it keeps a cloud's point voxels; VoxelCrfOptions::keep_scan_points).
+  bool exact_surface = false;
   std::vector<Eigen::Vector3d> scan_positions;  // The grid's, then the pockets'.
   int pocket_positions = 0;  // Of scan_positions, how many were added for pockets (the last ones).
   bool enclosed = true;     // False when no candidate passed the enclosure test (degraded input).

@@ -274,6 +274,12 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
   if (band_cells >= 2) {
     std::vector<uint8_t> free_column(wall.size(), 0);
     std::vector<int> column_top(wall.size(), -1);
+    int top_below_ceiling = d[2] - 1;
+    if (ceiling_found) {
+      const Eigen::Vector3d lo = grid.MinCorner();
+      const int z = int(std::floor((ceiling_z - options.ceiling_band_m - lo.z()) / res - 0.5));  // Centres not in the ceiling band.
+      top_below_ceiling = std::clamp(z, 0, d[2] - 1);
+    }
     for (int y = 0; y < d[1]; ++y)
       for (int x = 0; x < d[0]; ++x) {
         int count = 0, free = 0;
@@ -285,7 +291,10 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
         const size_t i = size_t(y) * d[0] + x;
         wall[i] = count >= options.wall_min_coverage * band_cells;
         free_column[i] = free >= options.front_free_share * band_cells;
-        for (int z = d[2] - 1; z >= 0; --z)
+        // The column's top below the ceiling: the ceiling spans every room, so a column that reached it would
+        // "rise" above a door leaf and its lintel wherever the room behind the door was not seen free, and
+        // the door became a furniture front depending on where the scan positions fell.
+        for (int z = top_below_ceiling; z >= 0; --z)
           if (grid.state(grid.Index(x, y, z)) == VoxelState::kOccupied) {
             column_top[i] = z;
             break;

@@ -96,7 +96,8 @@ Result<std::unique_ptr<SemanticEvidenceBuilder>> SemanticEvidenceBuilder::Create
   impl->models = &models;
   impl->options = options;
   impl->out.nodes = SelectVoxelCrfNodes(map.grid, map.floor_z, map.ceiling_z, options.evidence);
-  MarkPointNodes(map.point_voxels, &impl->out.nodes);
+  if (map.exact_surface) MarkSurfaceNodes(&impl->out.nodes);
+  else MarkPointNodes(map.point_voxels, &impl->out.nodes);
   impl->acc = std::make_unique<EvidenceAccumulator>(map.grid, impl->out.nodes, models.level.num_classes(), options.evidence);
   SEMVOX_INFO("voxel CRF: " << impl->out.nodes.size() << " nodes (" << impl->out.nodes.count_state(VoxelState::kOccupied) << " occupied, "
                             << impl->out.nodes.count_state(VoxelState::kFree) << " free, " << impl->out.nodes.count_state(VoxelState::kUnknown)

@@ -21,9 +21,9 @@ struct VoxelCrfTrainingOptions {
   std::string models_dir = "models";  // Reads the per-view models (second.*, ...) here and writes the CRF model here.
   std::vector<uint64_t> seeds;        // Generator seeds the weights are learned on.
   std::string seeds_text;             // The same as given (for the report).
-  // Scans learned on: flat (the generator's meshes), randomised (palettes, textures, simulated clouds), cloud
+  // Scans learned on: flat (the generator's meshes; the default), randomised (palettes, textures, simulated clouds), cloud
   // (randomised, all simulated fused clouds; writes voxel_crf_cloud.txt) or mixed (alternating, first flat).
-  std::string style = "mixed";
+  std::string style = "flat";
   int epochs = 12;                    // Structural-SVM epochs.
   // When >= 0, w_appearance (the per-view evidence) is held at this value instead of learned.
   double appearance_weight = -1;

@@ -129,7 +129,9 @@ struct VoxelCrfOptions {
   // Voxels that hold a point of the input cloud (VoxelCrfNodes::holds_point): the scan saw a surface there;
   // without this a sparse real cloud (one point per voxel or fewer) loses about half of its surface voxels,
   // furniture first, because its depth and density evidence is weak. Disc-splat voxels without a point may
-  // still be emptied.
+  // still be emptied. A mesh's surface voxels are kept the same way (MarkSurfaceNodes): without it, where the
+  // per-view evidence and the object segment disagree (a counter the views call counter and its shape cabinet),
+  // emptying the object was the cheapest answer, and whole counters and basins left the top view.
   bool keep_scan_points = true;
   // The layout prior P(s | height, normal) holds the classes' frequencies: walls are most of every vertical
   // surface at every height. When the labels come from the per-view classifiers (the model's appearance
@@ -182,8 +184,8 @@ struct VoxelCrfOptions {
             OptionNumber(&O::min_object_voxels, "min_object_voxels", 2, 1000000, "voxels",
                          "smallest object segment with a clique"),
             OptionSwitch(&O::keep_scan_points, "keep_scan_points",
-                         "point clouds: voxels holding an input point stay occupied (the Voxel-CRF labels them but "
-                         "does not empty them)"),
+                         "voxels holding an input point (point clouds) or crossed by the input mesh's surface (meshes, "
+                         "since 2026-12-05) stay occupied: the Voxel-CRF labels them but does not empty them"),
             OptionNumber(&O::layout_frequency_power, "layout_frequency_power", 0, 1, "",
                          "when the Voxel-CRF model trusts the per-view classifiers (the mesh model), the layout prior "
                          "P(class | height, normal) is divided by P(class)^this: 0 keeps it as learned, 1 is the ratio "

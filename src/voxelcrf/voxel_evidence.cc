@@ -29,6 +29,11 @@ void MarkPointNodes(const std::vector<uint32_t>& point_voxels, VoxelCrfNodes* no
       if (const int32_t node = nodes->node_of_voxel[v]; node >= 0) nodes->holds_point[size_t(node)] = 1;
 }
 
+void MarkSurfaceNodes(VoxelCrfNodes* nodes) {
+  nodes->holds_point.assign(nodes->size(), 0);
+  for (size_t i = 0; i < nodes->size(); ++i) nodes->holds_point[i] = nodes->initial_state[i] == uint8_t(VoxelState::kOccupied);
+}
+
 VoxelCrfNodes SelectVoxelCrfNodes(const VoxelGrid& grid, double floor_z, double ceiling_z, const VoxelEvidenceOptions& options) {
   const auto& d = grid.dims();
   const double res = grid.resolution();

@@ -70,7 +70,8 @@ struct VoxelCrfNodes {
   std::vector<uint32_t> voxel;         // Per node: VoxelGrid::Index.
   std::vector<uint8_t> initial_state;  // Per node: the map's VoxelState.
   std::vector<uint8_t> holds_point;    // Per node: 1 where the voxel holds a point of the input cloud
-                                       // (MarkPointNodes); empty when none are known (meshes).
+                                       // (MarkPointNodes) or the input mesh's surface (MarkSurfaceNodes);
+                                       // empty when none are known.
   // Blocks: nodes [block_begin[b], block_begin[b + 1]) with bounding sphere (centre, radius).
   std::vector<uint32_t> block_begin;
   std::vector<Eigen::Vector3f> block_centre;
@@ -82,6 +83,8 @@ struct VoxelCrfNodes {
 VoxelCrfNodes SelectVoxelCrfNodes(const VoxelGrid& grid, double floor_z, double ceiling_z, const VoxelEvidenceOptions& options);
 // Sets `holds_point` from the grid indices of the voxels that hold input points (VoxelMap::point_voxels).
 void MarkPointNodes(const std::vector<uint32_t>& point_voxels, VoxelCrfNodes* nodes);
+// A mesh's surface is exact: sets `holds_point` on every node whose voxel the map holds occupied.
+void MarkSurfaceNodes(VoxelCrfNodes* nodes);
 
 // One classified-view ray: from `origin` (index into VoxelEvidence::origins) along `direction` up to
 // `max_t` metres; its observation is row `observation` of VoxelEvidence::observations.

@@ -167,6 +167,31 @@ TEST(ObjectSegments, FurnitureFrontsAgainstAWallAreNotWall) {
   EXPECT_EQ(w.structure[room.grid.Index(10 + 25, 10 + 88, 20)], 3);
 }
 
+// A closed door in an interior wall, the room behind it never seen (unknown), a ceiling slab over both rooms.
+// The ceiling over the unseen room is no furniture's back: with the ceiling found, the door, its lintel and
+// the wall stay wall. Without a found ceiling the slab counts as what stands behind, and the same geometry
+// makes the door (and the wall) a furniture front: the case that flipped a door between wall and object when
+// an apartment was turned (FrameCli.TurnedTiltedShiftedApartmentGivesTheSameRoomsAndLabels).
+TEST(ObjectSegments, ClosedDoorBeforeAnUnseenRoomStaysWallUnderAFoundCeiling) {
+  Room room;
+  room.Clear(0, 0, 0.05, 3.0, 5, 2.5);                 // the seen room, west of the interior wall
+  room.Fill(0, 0, 2.5, 3.0, 5, 2.75);                  // the ceiling slab over each room (not over the wall)
+  room.Fill(3.05, 0, 2.5, 6, 5, 2.75);
+  room.Fill(3.0, 0, 0.05, 3.05, 2.0, 2.5);             // interior wall, south of the door
+  room.Fill(3.0, 2.9, 0.05, 3.05, 5.0, 2.5);           // and north of it
+  room.Fill(3.0, 2.0, 0.05, 3.05, 2.9, 2.0);           // the closed door leaf
+  room.Fill(3.0, 2.0, 2.0, 3.05, 2.9, 2.3);            // its lintel
+  const double floor_z = room.FloorZ();
+  const int door_x = 10 + 60, door_y = 10 + 48, z = 20;
+  const SegmentationResult r = SegmentObjects(room.grid, floor_z, floor_z + 2.5, true, SegmentOptions{});
+  EXPECT_EQ(r.structure[room.grid.Index(door_x, door_y, z)], 3);       // door leaf
+  EXPECT_EQ(r.structure[room.grid.Index(door_x, door_y, 42)], 3);      // lintel
+  EXPECT_EQ(r.structure[room.grid.Index(door_x, 10 + 20, z)], 3);      // interior wall
+  const SegmentationResult no_ceiling = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, SegmentOptions{});
+  EXPECT_EQ(no_ceiling.structure[room.grid.Index(door_x, door_y, z)], 0);
+  EXPECT_NE(SegmentAt(no_ceiling, room.grid, door_x, door_y, z), nullptr);
+}
+
 TEST(ObjectSegments, RejectsBadOptions) {
   SegmentOptions o;
   o.wall_min_coverage = 0;

@@ -828,6 +828,62 @@ TEST(VoxelCrf, SparseCloudKeepsEveryVoxelThatHoldsAPoint) {
   EXPECT_LT(double(without), 0.9 * double(holding)) << without << " of " << holding << " point voxels occupied without the option";
 }
 
+// A mesh's surface is exact: every voxel it passes through is kept occupied, as a cloud's point voxels are.
+// Before 2026-12-05 meshes had no such constraint, and where the per-view evidence and an object segment
+// disagreed the Voxel-CRF emptied whole counters. Here a per-voxel cost of being occupied (the bias weight
+// raised to 5) makes emptying cheap: without the constraint most surface voxels go, with it none.
+TEST(VoxelCrf, MeshSurfaceVoxelsStayOccupied) {
+  const Scene scene = MeshScene(MakeCabinetRoom().mesh);
+  const VoxelMap map = MapOf(scene);
+  EXPECT_TRUE(map.exact_surface);
+  EXPECT_TRUE(map.point_voxels.empty());
+  EXPECT_FALSE(MapOf(SparseCloudOf(MakeCabinetRoom().mesh, 400.0, 3)).exact_surface);
+  const VoxelGrid& g = map.grid;
+  const LabelLevel level = SecondLevel();
+  const int K = level.num_classes();
+  VoxelCrfNodes nodes = SelectVoxelCrfNodes(g, map.floor_z, map.ceiling_z, VoxelEvidenceOptions{});
+  MarkSurfaceNodes(&nodes);
+  ASSERT_EQ(nodes.holds_point.size(), nodes.size());
+  size_t surface = 0;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const bool occupied = g.state(nodes.voxel[i]) == VoxelState::kOccupied;
+    ASSERT_EQ(nodes.holds_point[i] != 0, occupied) << i;
+    surface += occupied;
+  }
+  ASSERT_GT(surface, 2000u);
+  EvidenceAccumulator acc(g, nodes, K, VoxelEvidenceOptions{});
+  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
+  ASSERT_TRUE(renderer.ok()) << renderer.status().message();
+  ViewsOptions vo;
+  vo.width = 160;
+  vo.height = 120;
+  Result<ViewSet> views = RenderViews(*renderer, map, vo, [&](const ViewRecord& r, const RenderedView& view) {
+    if (!r.kept()) return Status::Ok();
+    acc.AddDepthView(view);
+    acc.AddClassifiedView(view, nullptr, std::vector<float>(size_t(view.camera.width) * view.camera.height * K, 1.f / float(K)));
+    return Status::Ok();
+  });
+  ASSERT_TRUE(views.ok()) << views.status().message();
+  const VoxelEvidence ev = std::move(acc).Finish();
+  Result<VoxelCrfModel> model = VoxelCrfModel::Load(std::string(SEMVOX_SOURCE_DIR) + "/models/voxel_crf.txt");
+  ASSERT_TRUE(model.ok()) << model.status().message();
+  ASSERT_EQ(model->num_classes(), K);
+  model->w[kWOccupiedBias] = 5.0;
+  auto occupied_surface = [&](bool keep) {
+    VoxelCrfOptions o;
+    o.keep_scan_points = keep;
+    VoxelCrfResult result;
+    EXPECT_TRUE(SolveVoxelCrf(g, nodes, ev, map.floor_z, map.ceiling_z, *model, o, &result).ok());
+    size_t n = 0;
+    for (size_t i = 0; i < nodes.size(); ++i) n += nodes.holds_point[i] && result.labels[i] != 0;
+    return n;
+  };
+  EXPECT_EQ(occupied_surface(true), surface);
+  const size_t without = occupied_surface(false);
+  std::printf("surface voxels: %zu; occupied without the constraint: %zu\n", surface, without);
+  EXPECT_LT(double(without), 0.5 * double(surface));
+}
+
 // The top view shows each column's highest voxel in the band; with a confidence floor it passes over the
 // voxels whose label the Voxel-CRF barely preferred.
 TEST(SemanticExports, TopViewPassesOverLabelsBelowTheConfidenceFloor) {
