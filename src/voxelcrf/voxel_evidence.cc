@@ -22,7 +22,7 @@ constexpr int kBlock = 8;
 
 void MarkPointNodes(const std::vector<uint32_t>& point_voxels, VoxelCrfNodes* nodes) {
   nodes->holds_point.clear();
-  if (point_voxels.empty()) return;  // A mesh: nothing to mark, and the CRF skips the constraint.
+  if (point_voxels.empty()) return;  // No points known: nothing to mark, and the CRF skips the constraint (a mesh uses MarkSurfaceNodes).
   nodes->holds_point.assign(nodes->size(), 0);
   for (uint32_t v : point_voxels)
     if (size_t(v) < nodes->node_of_voxel.size())

@@ -774,6 +774,38 @@ Scene SparseCloudOf(const Mesh& m, double per_m2, uint64_t seed) {
 // With an uninformative classifier (a real scan's views say little), the point-cloud Voxel-CRF weights empty
 // voxels the scan has points in; keep_scan_points bars that, and only that: every voxel holding a point
 // stays occupied, and the map records exactly the voxels holding points.
+// The evidence of 160 x 120 views of `scene`: their depth, and a classifier that knows nothing (uniform over
+// the K classes).
+VoxelEvidence UninformedEvidence(const Scene& scene, const VoxelMap& map, const VoxelCrfNodes& nodes, int K) {
+  EvidenceAccumulator acc(map.grid, nodes, K, VoxelEvidenceOptions{});
+  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
+  EXPECT_TRUE(renderer.ok()) << renderer.status().message();
+  if (!renderer.ok()) return std::move(acc).Finish();
+  ViewsOptions vo;
+  vo.width = 160;
+  vo.height = 120;
+  Result<ViewSet> views = RenderViews(*renderer, map, vo, [&](const ViewRecord& r, const RenderedView& view) {
+    if (!r.kept()) return Status::Ok();
+    acc.AddDepthView(view);
+    acc.AddClassifiedView(view, nullptr, std::vector<float>(size_t(view.camera.width) * view.camera.height * K, 1.f / float(K)));
+    return Status::Ok();
+  });
+  EXPECT_TRUE(views.ok()) << views.status().message();
+  return std::move(acc).Finish();
+}
+
+// How many of the nodes marked `holds_point` the Voxel-CRF leaves occupied, with or without keep_scan_points.
+size_t OccupiedMarkedNodes(const VoxelMap& map, const VoxelCrfNodes& nodes, const VoxelEvidence& ev, const VoxelCrfModel& model,
+                           bool keep) {
+  VoxelCrfOptions o;
+  o.keep_scan_points = keep;
+  VoxelCrfResult result;
+  EXPECT_TRUE(SolveVoxelCrf(map.grid, nodes, ev, map.floor_z, map.ceiling_z, model, o, &result).ok());
+  size_t n = 0;
+  for (size_t i = 0; i < nodes.size(); ++i) n += nodes.holds_point[i] && result.labels[i] != 0;
+  return n;
+}
+
 TEST(VoxelCrf, SparseCloudKeepsEveryVoxelThatHoldsAPoint) {
   const Scene scene = SparseCloudOf(MakeCabinetRoom().mesh, 400.0, 3);
   const VoxelMap map = MapOf(scene);
@@ -796,34 +828,12 @@ TEST(VoxelCrf, SparseCloudKeepsEveryVoxelThatHoldsAPoint) {
   const size_t holding = size_t(std::count(nodes.holds_point.begin(), nodes.holds_point.end(), uint8_t(1)));
   EXPECT_EQ(holding, map.point_voxels.size());  // Every occupied voxel is a node.
   ASSERT_GT(holding, 2000u);
-  EvidenceAccumulator acc(g, nodes, K, VoxelEvidenceOptions{});
-  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
-  ASSERT_TRUE(renderer.ok()) << renderer.status().message();
-  ViewsOptions vo;
-  vo.width = 160;
-  vo.height = 120;
-  Result<ViewSet> views = RenderViews(*renderer, map, vo, [&](const ViewRecord& r, const RenderedView& view) {
-    if (!r.kept()) return Status::Ok();
-    acc.AddDepthView(view);
-    acc.AddClassifiedView(view, nullptr, std::vector<float>(size_t(view.camera.width) * view.camera.height * K, 1.f / float(K)));
-    return Status::Ok();
-  });
-  ASSERT_TRUE(views.ok()) << views.status().message();
-  const VoxelEvidence ev = std::move(acc).Finish();
+  const VoxelEvidence ev = UninformedEvidence(scene, map, nodes, K);
   Result<VoxelCrfModel> model = VoxelCrfModel::Load(std::string(SEMVOX_SOURCE_DIR) + "/models/voxel_crf_cloud.txt");
   ASSERT_TRUE(model.ok()) << model.status().message();
   ASSERT_EQ(model->num_classes(), K);
-  auto occupied_points = [&](bool keep) {
-    VoxelCrfOptions o;
-    o.keep_scan_points = keep;
-    VoxelCrfResult result;
-    EXPECT_TRUE(SolveVoxelCrf(g, nodes, ev, map.floor_z, map.ceiling_z, *model, o, &result).ok());
-    size_t n = 0;
-    for (size_t i = 0; i < nodes.size(); ++i) n += nodes.holds_point[i] && result.labels[i] != 0;
-    return n;
-  };
-  EXPECT_EQ(occupied_points(true), holding);
-  const size_t without = occupied_points(false);
+  EXPECT_EQ(OccupiedMarkedNodes(map, nodes, ev, *model, true), holding);
+  const size_t without = OccupiedMarkedNodes(map, nodes, ev, *model, false);
   std::printf("voxels holding points: %zu; occupied without keep_scan_points: %zu\n", holding, without);
   EXPECT_LT(double(without), 0.9 * double(holding)) << without << " of " << holding << " point voxels occupied without the option";
 }
@@ -851,35 +861,13 @@ TEST(VoxelCrf, MeshSurfaceVoxelsStayOccupied) {
     surface += occupied;
   }
   ASSERT_GT(surface, 2000u);
-  EvidenceAccumulator acc(g, nodes, K, VoxelEvidenceOptions{});
-  Result<ViewRenderer> renderer = ViewRenderer::Create(scene);
-  ASSERT_TRUE(renderer.ok()) << renderer.status().message();
-  ViewsOptions vo;
-  vo.width = 160;
-  vo.height = 120;
-  Result<ViewSet> views = RenderViews(*renderer, map, vo, [&](const ViewRecord& r, const RenderedView& view) {
-    if (!r.kept()) return Status::Ok();
-    acc.AddDepthView(view);
-    acc.AddClassifiedView(view, nullptr, std::vector<float>(size_t(view.camera.width) * view.camera.height * K, 1.f / float(K)));
-    return Status::Ok();
-  });
-  ASSERT_TRUE(views.ok()) << views.status().message();
-  const VoxelEvidence ev = std::move(acc).Finish();
+  const VoxelEvidence ev = UninformedEvidence(scene, map, nodes, K);
   Result<VoxelCrfModel> model = VoxelCrfModel::Load(std::string(SEMVOX_SOURCE_DIR) + "/models/voxel_crf.txt");
   ASSERT_TRUE(model.ok()) << model.status().message();
   ASSERT_EQ(model->num_classes(), K);
   model->w[kWOccupiedBias] = 5.0;
-  auto occupied_surface = [&](bool keep) {
-    VoxelCrfOptions o;
-    o.keep_scan_points = keep;
-    VoxelCrfResult result;
-    EXPECT_TRUE(SolveVoxelCrf(g, nodes, ev, map.floor_z, map.ceiling_z, *model, o, &result).ok());
-    size_t n = 0;
-    for (size_t i = 0; i < nodes.size(); ++i) n += nodes.holds_point[i] && result.labels[i] != 0;
-    return n;
-  };
-  EXPECT_EQ(occupied_surface(true), surface);
-  const size_t without = occupied_surface(false);
+  EXPECT_EQ(OccupiedMarkedNodes(map, nodes, ev, *model, true), surface);
+  const size_t without = OccupiedMarkedNodes(map, nodes, ev, *model, false);
   std::printf("surface voxels: %zu; occupied without the constraint: %zu\n", surface, without);
   EXPECT_LT(double(without), 0.5 * double(surface));
 }
