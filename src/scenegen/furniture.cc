@@ -1,6 +1,7 @@
 // Furniture by room type, built from boxes with real-world sizes, and small props on support surfaces.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 
 #include "core/labels.h"
@@ -41,10 +42,14 @@ class RoomFurnisher {
         const int side = k == 0 ? d.side_a : (d.side_a + 2) % 4;
         const double w = d.b - d.a;
         keep_.push_back(WallFootprint(side, 0.5 * (d.a + d.b), w + 0.1, std::min(w, plan.max_door_swing) + 0.1, 0, H_));
+        passages_.push_back(WallFootprint(side, 0.5 * (d.a + d.b), w + 0.1, kDoorPassage, 0, H_));
       }
     }
     for (const PlanWindow& w : plan.windows)
-      if (w.room == room_index) keep_.push_back(WallFootprint(w.side, 0.5 * (w.a + w.b), w.b - w.a + 0.1, 0.06, w.sill, w.top));
+      if (w.room == room_index) {
+        keep_.push_back(WallFootprint(w.side, 0.5 * (w.a + w.b), w.b - w.a + 0.1, 0.06, w.sill, w.top));
+        passages_.push_back(keep_.back());
+      }
   }
 
   int room() const { return room_; }
@@ -92,12 +97,14 @@ class RoomFurnisher {
     return f.c.x() - ex >= in.x0 - 1e-6 && f.c.x() + ex <= in.x1 + 1e-6 && f.c.y() - ey >= in.y0 - 1e-6 &&
            f.c.y() + ey <= in.y1 + 1e-6;
   }
-  bool Free(const Footprint& f, bool check_keep_out = true) const {
+  bool Free(const Footprint& f, bool check_keep_out = true) const { return FreeOf(f, check_keep_out ? &keep_ : nullptr); }
+  // Free of the walls, the furniture and of `keep_out` (when given).
+  bool FreeOf(const Footprint& f, const std::vector<Footprint>* keep_out) const {
     if (!Inside(f)) return false;
     for (const Footprint& o : taken_)
       if (Overlaps(f, o)) return false;
-    if (check_keep_out)
-      for (const Footprint& o : keep_)
+    if (keep_out)
+      for (const Footprint& o : *keep_out)
         if (Overlaps(f, o)) return false;
     return true;
   }
@@ -130,6 +137,50 @@ class RoomFurnisher {
       if (front > 0 && !Free(FootprintAt(p, w, front, 0, 0.5, 0, d / 2 + front / 2 + 1e-3))) continue;
       *out = p;
       return true;
+    }
+    return false;
+  }
+  // PlaceAgainstWall for a room's defining furniture: when the random draws find nothing and the plan asks for
+  // it (FloorPlan::place_defining_furniture), every spot along the walls in 5 cm steps, first with the walkway
+  // in front, then without it, then with only the doors' passages kept clear, then standing in as few door
+  // passages as possible; one of the spots of the first pass that finds any is drawn.
+  bool PlaceDefining(double w, double d, double h, std::vector<int> sides, double front, Pose* out) {
+    if (PlaceAgainstWall(w, d, h, sides, front, out)) return true;
+    if (!plan_.place_defining_furniture) return false;
+    front *= plan_.front_clearance_scale;
+    if (sides.empty())
+      for (int s = 0; s < 4; ++s)
+        if (HasWall(s)) sides.push_back(s);
+    struct Pass {
+      double front;
+      const std::vector<Footprint>* keep_out;
+    };
+    // The last pass keeps nothing clear but counts the door passages a spot stands in, and keeps the spots that
+    // block the fewest (a room with a door on every wall: a bed before a closet's sliding door).
+    const Pass passes[] = {{front, &keep_}, {0.0, &keep_}, {0.0, &passages_}, {0.0, nullptr}};
+    for (const Pass& pass : passes) {
+      std::vector<Pose> spots;
+      size_t fewest = SIZE_MAX;
+      for (const int s : sides) {
+        const Rect& in = r_.interior;
+        const bool along_x = s == kSouth || s == kNorth;
+        const double lo = (along_x ? in.x0 : in.y0) + kGap + w / 2, hi = (along_x ? in.x1 : in.y1) - kGap - w / 2;
+        for (double along = lo; along <= hi + 1e-9; along += kScanStep) {
+          const Pose p = AgainstWall(s, along, d);
+          const Footprint f = FootprintAt(p, w, d, 0, h);
+          if (!FreeOf(f, pass.keep_out)) continue;
+          if (pass.front > 0 && !FreeOf(FootprintAt(p, w, pass.front, 0, 0.5, 0, d / 2 + pass.front / 2 + 1e-3), pass.keep_out))
+            continue;
+          const size_t blocked = pass.keep_out ? 0 : size_t(std::count_if(passages_.begin(), passages_.end(), [&](const Footprint& o) { return Overlaps(f, o); }));
+          if (blocked > fewest) continue;
+          if (blocked < fewest) spots.clear(), fewest = blocked;
+          spots.push_back(p);
+        }
+      }
+      if (!spots.empty()) {
+        *out = spots[size_t(rng_->UniformInt(0, int(spots.size()) - 1))];
+        return true;
+      }
     }
     return false;
   }
@@ -169,7 +220,11 @@ class RoomFurnisher {
   Rng* rng_;
   ApartmentBuilder* b_;
   double H_ = 2.6, z_ = 0;
-  std::vector<Footprint> taken_, keep_;
+  static constexpr double kDoorPassage = 0.3;  // Metres kept clear in front of a door when placing defining furniture.
+  static constexpr double kScanStep = 0.05;    // Step along a wall when looking for a spot for defining furniture.
+  // taken_: placed furniture; keep_: doors' swing squares and window slabs; passages_: doors' passages (shallow)
+  // and window slabs.
+  std::vector<Footprint> taken_, keep_, passages_;
   std::vector<Support> supports_;
 };
 
@@ -188,7 +243,7 @@ int Bed(RoomFurnisher* f, bool dbl) {
   const double w = dbl ? r->Uniform(1.4, 1.8) : r->Uniform(0.9, 1.0), d = r->Uniform(1.95, 2.1);
   const double top = r->Uniform(0.45, 0.6), head = top + r->Uniform(0.35, 0.6);
   Pose p;
-  if (!f->PlaceAgainstWall(w, d, head, {}, 0.6, &p)) return -1;
+  if (!f->PlaceDefining(w, d, head, {}, 0.6, &p)) return -1;
   ApartmentBuilder* b = f->b();
   const int id = b->Begin(kBed, f->room(), p);
   const Rgb8 frame = Vary(r->Pick(kWood), r), sheet = Vary(r->Pick(kFabric), r, 25);
@@ -354,7 +409,7 @@ int Sofa(RoomFurnisher* f, Pose* pose, double* depth) {
   const double D = d + chaise;
   Pose p;
   std::vector<int> sides = {0, 1, 2, 3};
-  if (!f->PlaceAgainstWall(wide, D, back, sides, 1.0, &p)) return -1;
+  if (!f->PlaceDefining(wide, D, back, sides, 1.0, &p)) return -1;
   ApartmentBuilder* b = f->b();
   const int id = b->Begin(kSofa, f->room(), p);
   const Rgb8 c = Vary(r->Pick(kFabric), r, 20);

@@ -78,6 +78,12 @@ struct FloorPlan {
   double max_door_swing = 1e9;
   // A bedroom whose double bed finds no place against a wall tries a single bed (real plans).
   bool single_bed_fallback = false;
+  // A room's defining furniture (a bedroom's bed, a living room's sofa) that the random draws against the walls
+  // do not place is looked for at every spot along every wall (5 cm steps), then without the walkway in front
+  // of it, then keeping only a door's passage (0.3 m) clear instead of its swing square (real plans, whose
+  // doors are often sliding), then before as few doors as possible (Japanese rooms with a sliding door on every
+  // wall). One of the spots found is drawn; nothing is placed when the room is too small for it.
+  bool place_defining_furniture = false;
 };
 
 // Draws a plan with `num_rooms` rooms; false when this draw does not fit (the caller draws again).

@@ -129,6 +129,7 @@ void FurnishPlanRooms(const Apartment& apt, const PlanLayout& layout, const Plan
   plan.front_clearance_scale = 0.5;  // Real rooms are tighter than drawn ones: 0.3 m in front of a bed.
   plan.max_door_swing = 0.5;
   plan.single_bed_fallback = true;
+  plan.place_defining_furniture = true;
   plan.rooms.resize(size_t(max_id));
   std::vector<uint8_t> mask(size_t(W) * size_t(H));
   for (int id = 1; id <= max_id; ++id) {

@@ -7,6 +7,8 @@
 //    on the living room's own floor (no wall, no other room, not the door gap), at least 0.3 m from the door
 //    gap's centre; the WC (it has its toilet) gets nothing more; with `furniture = false` the fixtures and
 //    windows are the only objects;
+//  - a bedroom with a wide door in every wall still gets its bed (FloorPlan::place_defining_furniture), before
+//    one door at most; a room too small for a bed gets none;
 //  - `semvox generate --plan` on a real R2V plan of ../shared/data/r2v (skipped when absent): the files
 //    of a generated apartment, with one room per closed region of the plan; bad plans rejected with one
 //    error line and nothing written.
@@ -154,6 +156,69 @@ TEST(PlanApartment, FurnitureStandsOnItsRoomsFloorClearOfWallsAndDoors) {
   Result<Apartment> bare = ApartmentFromLayout(layout, options);
   ASSERT_TRUE(bare.ok());
   for (const ObjectGt& o : bare->objects) EXPECT_TRUE(o.label == nyu40::kWindow || o.label == nyu40::kToilet) << o.label;
+}
+
+// One bedroom [0, w] x [0, h] (walls on its edges) with a door gap `door` metres wide in the middle of every
+// wall, leading out (a Japanese room with sliding doors to closets, corridor and balcony).
+PlanLayout BedroomWithADoorOnEveryWall(double w, double h, double door) {
+  PlanLayout l;
+  l.resolution_m = 0.05;
+  l.origin = Eigen::Vector2d(-0.5, -0.5);
+  const int nx = int((w + 1) / l.resolution_m), ny = int((h + 1) / l.resolution_m);
+  l.rooms = ImageU16(nx, ny, 1, 0);
+  for (int r = 0; r < ny; ++r)
+    for (int c = 0; c < nx; ++c) {
+      const double x = l.origin.x() + (c + 0.5) * l.resolution_m, y = l.origin.y() + (r + 0.5) * l.resolution_m;
+      if (x > 0.05 && x < w - 0.05 && y > 0.05 && y < h - 0.05) l.rooms.at(c, r) = 1;
+    }
+  const auto seg = [](double x0, double y0, double x1, double y1) { return PlanLayout::Segment{{x0, y0}, {x1, y1}}; };
+  l.walls = {seg(0, 0, w, 0), seg(w, 0, w, h), seg(w, h, 0, h), seg(0, h, 0, 0)};
+  l.doors = {seg(w / 2 - door / 2, 0, w / 2 + door / 2, 0), seg(w / 2 - door / 2, h, w / 2 + door / 2, h),
+             seg(0, h / 2 - door / 2, 0, h / 2 + door / 2), seg(w, h / 2 - door / 2, w, h / 2 + door / 2)};
+  l.room_type = {0, RoomTypeIdByName("bedroom")};
+  return l;
+}
+
+TEST(PlanApartment, BedroomGetsItsBedWhenOneFitsBeforeTheFewestDoors) {
+  // 3.2 x 2.7 m with a 1.6 m door in every wall: no spot against a wall keeps every door's swing square or
+  // passage clear, so the bed stands before exactly one door (the fewest possible); every seed gets one.
+  const PlanLayout layout = BedroomWithADoorOnEveryWall(3.2, 2.7, 1.6);
+  PlanApartmentOptions options;
+  for (uint64_t seed = 0; seed < 6; ++seed) {
+    options.seed = seed;
+    Result<Apartment> apt = ApartmentFromLayout(layout, options);
+    ASSERT_TRUE(apt.ok()) << apt.status().message();
+    int beds = 0;
+    for (const ObjectGt& o : apt->objects) {
+      if (o.label != nyu40::kBed) continue;
+      ++beds;
+      EXPECT_EQ(o.room, 1);
+      // Footprint on the room's floor; the door gaps whose passage (0.15 m inside the room) it covers.
+      const double c = std::cos(o.box.yaw_rad), s = std::sin(o.box.yaw_rad);
+      for (int corner = 0; corner < 4; ++corner) {
+        const double lx = (corner & 1 ? 0.5 : -0.5) * o.box.size.x(), ly = (corner & 2 ? 0.5 : -0.5) * o.box.size.y();
+        EXPECT_EQ(RoomIdAt(*apt, o.box.center.x() + c * lx - s * ly, o.box.center.y() + s * lx + c * ly), 1) << "seed " << seed;
+      }
+      // Doors whose passage (points across the gap, 0.2 m inside the room) the bed covers.
+      int blocked = 0;
+      for (int door = 0; door < 4; ++door) {
+        bool covered = false;
+        for (int k = 0; k <= 8; ++k) {
+          const double t = -0.8 + 0.2 * k;  // Across the 1.6 m gap.
+          const Eigen::Vector3d p = door == 0 ? Eigen::Vector3d(1.6 + t, 0.2, 0.2) : door == 1 ? Eigen::Vector3d(1.6 + t, 2.5, 0.2)
+                                  : door == 2 ? Eigen::Vector3d(0.2, 1.35 + t, 0.2) : Eigen::Vector3d(3.0, 1.35 + t, 0.2);
+          covered = covered || InsideBox(o.box, p);
+        }
+        blocked += covered;
+      }
+      EXPECT_EQ(blocked, 1) << "seed " << seed << ": the bed stands before " << blocked << " doors";
+    }
+    EXPECT_EQ(beds, 1) << "seed " << seed;
+  }
+  // A room too small for any bed (1.7 x 1.8 m) gets none, and the apartment is still built.
+  Result<Apartment> small = ApartmentFromLayout(BedroomWithADoorOnEveryWall(1.7, 1.8, 0.7), options);
+  ASSERT_TRUE(small.ok()) << small.status().message();
+  for (const ObjectGt& o : small->objects) EXPECT_NE(o.label, nyu40::kBed);
 }
 
 TEST(PlanApartment, RegionsTooSmallToEnterAreNoRooms) {
