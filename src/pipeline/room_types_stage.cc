@@ -66,6 +66,7 @@ nlohmann::ordered_json RoomTypesSummaryJson(const RoomTypesStageResult& typed) {
   j["shape_model"] = typed.shapes_used ? options.shape_model_path : std::string();
   j["shape_weight"] = typed.shapes_used ? options.shape_weight : 0.0;
   j["adjacency_weight"] = typed.shapes_used ? options.adjacency_weight : 0.0;
+  j["fixture_absence_weight"] = options.fixture_absence_weight;
   j["views"] = typed.views;
   j["splits"] = result.splits;
   j["seconds"] = std::round(result.seconds * 1e3) / 1e3;
@@ -85,7 +86,8 @@ nlohmann::ordered_json RoomTypesSummaryJson(const RoomTypesStageResult& typed) {
     const int id = j["rooms"][i]["id"].get<int>();
     if (id < 1 || id > int(result.assignments.size())) continue;
     const RoomTypeAssignment& a = result.assignments[size_t(id - 1)];
-    j["rooms"][i]["terms"] = {{"scene", terms(a.scene_term)}, {"objects", terms(a.object_term)}, {"shape", terms(a.shape_term)}};
+    j["rooms"][i]["terms"] = {{"scene", terms(a.scene_term)}, {"objects", terms(a.object_term)}, {"shape", terms(a.shape_term)},
+                              {"fixtures", terms(a.fixture_term)}};
     const int source = a.source_room;
     if (source < 1 || source > int(result.shapes.size())) continue;
     const RoomShape& s = result.shapes[size_t(source - 1)];

@@ -115,6 +115,10 @@ struct RoomTypeModel {
   double hom_bin_m = 0.25;
   std::vector<std::array<double, 4>> hom_log_prob;  // Per bin: [same y & same g, diff y & same g, same y & diff g, diff y & diff g].
   std::vector<std::pair<std::string, RoomTypeWeights>> weights;  // Per variant name.
+  // log P(no fixture | y): a room of type y holds none of the fixtures of real plans (counter, toilet, sink,
+  // bathtub; R2vFixtureLabels), from the rooms of the R2V training plans and the generated apartments (Laplace
+  // smoothing). All zero (the term off) in models written before it existed.
+  std::array<double, kRoomTypeLabels> no_fixture_log_prob{};
   DenseCrfParams dense;
   std::string provenance;  // What it was trained on (free text, for the report).
 
@@ -165,6 +169,13 @@ struct RoomTypeCrfOptions {
   // neighbour's current label shares (refreshed every sweep). Needs the room-shape model. Off by default: through
   // `semvox run` it lowered the room types of the plans and apartments it was chosen on (docs/rooms.md).
   double adjacency_weight = 0.0;
+  // Fixtures seen nowhere in a room: every node of a room whose semantic top view holds no cell of a fixture
+  // class (counter, toilet, sink, bathtub) gains fixture_absence_weight x log P(no fixture | y)
+  // (RoomTypeModel::no_fixture_log_prob). A closet and a WC have the same size and shape; only the toilet tells
+  // them apart, and its absence says as much as its presence. Off without a semantic top view. 1.5 since
+  // 2026-12-05, chosen through `semvox run` on R2V training plans 200-249 and generated apartments 40-44 by the
+  // mean of their pixel accuracies (docs/rooms.md, "Fixtures seen nowhere").
+  double fixture_absence_weight = 1.5;
 
   // The fields users set (section `room_types`): meaning, unit and range.
   static const OptionTable<RoomTypeCrfOptions>& Options() {
@@ -198,6 +209,9 @@ struct RoomTypeCrfOptions {
                          "weight of the room-shape evidence learnt from real plans (models/room_shape.json), 0 = off"),
             OptionNumber(&O::adjacency_weight, "adjacency_weight", 0, 10, "",
                          "weight of the room-adjacency term learnt from real plans (which types neighbour which), 0 = off"),
+            OptionNumber(&O::fixture_absence_weight, "fixture_absence_weight", 0, 10, "",
+                         "weight of log P(no fixture | type) in rooms whose semantic top view shows no counter, toilet, "
+                         "sink or bathtub (learnt from real plans), 0 = off"),
         },
     });
     return table;
@@ -218,6 +232,9 @@ struct RoomTypeGraph {
                                                                // highest maximum (dense CRF baseline).
   std::vector<std::array<double, kRoomTypeLabels>> votes;      // Per type: pixels x views voting (majority).
   std::vector<std::array<std::array<double, kRoomTypeLabels>, kNumObjectGroups>> objects;  // phi_obj^g(y).
+  // Per node: its room's semantic top view holds no fixture cell (RoomTypeCrfOptions::fixture_absence_weight);
+  // empty without a top view.
+  std::vector<bool> without_fixture;
   // Neighbours within max_pair_distance_m (both directions), with the distance.
   std::vector<std::vector<std::pair<int, float>>> neighbours;
   double pair_normaliser = 1;         // Expected neighbour count (the pair sum is divided by it).
@@ -252,6 +269,7 @@ struct RoomTypeEnergy {
   double SceneTerm(int i, int y) const;
   double ObjectTerm(int i, int g, int y) const;
   double ShapeTerm(int i, int y) const;  // 0 without a shape model.
+  double FixtureTerm(int i, int y) const;  // 0 in rooms with a fixture, or without a top view.
   double Unary(int i, int y) const;
   // f(y_i, g_i, y_j, g_j, d) of the variant for a pair (same type?, same segment?, distance), unweighted.
   double Pair(bool same_type, bool same_segment, double distance_m) const;
@@ -284,8 +302,8 @@ struct RoomTypeAssignment {
   std::array<double, kRoomTypeLabels> probabilities{};
   // The Gibbs CRF's unary terms, pixel-weighted means over the room's nodes, as weighted in the energy: the
   // scene (views), the object groups (summed) and the room shape. Which evidence decided a room (zero when
-  // the term is off or another method ran).
-  std::array<double, kRoomTypeLabels> scene_term{}, object_term{}, shape_term{};
+  // the term is off or another method ran), and the absence of fixtures.
+  std::array<double, kRoomTypeLabels> scene_term{}, object_term{}, shape_term{}, fixture_term{};
 };
 
 struct RoomTypeResult {
@@ -331,8 +349,15 @@ struct RoomTypeTrainingScene {
 struct ObjectRoomCounts {
   std::array<double, kRoomTypeLabels> rooms{};
   std::vector<std::array<double, kRoomTypeLabels>> with_object = std::vector<std::array<double, kRoomTypeLabels>>(41);
+  std::array<double, kRoomTypeLabels> without_fixture{};  // Rooms holding none of R2vFixtureLabels().
   void Add(const ObjectRoomCounts& other);
 };
+
+// The NYU40 ids the R2V fixtures stand for (counter, toilet, sink, bathtub).
+const std::vector<int>& R2vFixtureLabels();
+
+// log P(no fixture | y) = log((rooms without a fixture + 1) / (rooms + 2)) per type.
+std::array<double, kRoomTypeLabels> NoFixtureLogProb(const ObjectRoomCounts& counts);
 
 // P(y | k) with a uniform type prior from counts (Laplace smoothing): objects absent from every room give a
 // uniform row.

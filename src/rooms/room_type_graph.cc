@@ -211,6 +211,17 @@ Result<RoomTypeGraph> BuildRoomTypeGraph(const FloorPlan& plan, const RoomSegmen
           weight[size_t(r)][size_t(k)] = std::max(weight[size_t(r)][size_t(k)], w);
         }
       }
+    // Rooms without any fixture cell (the absence term).
+    std::vector<bool> fixture_seen(num_rooms + 1, false);
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const int r = rooms.room_extent_ids.at(x, y), k = topview_labels.at(x, y);
+        if (r < 1 || r > num_rooms || fixture_seen[size_t(r)]) continue;
+        const std::vector<int>& fixtures = R2vFixtureLabels();
+        fixture_seen[size_t(r)] = std::find(fixtures.begin(), fixtures.end(), k) != fixtures.end();
+      }
+    g.without_fixture.assign(N, false);
+    for (size_t n = 0; n < N; ++n) g.without_fixture[n] = !fixture_seen[size_t(g.segment[n])];
     const double sigma_px = options.object_sigma_m / res;
     tbb::parallel_for(1, num_rooms + 1, [&](int r) {
       if (x1[r] < 0) return;
@@ -286,11 +297,17 @@ double RoomTypeEnergy::ShapeTerm(int i, int y) const {
   return graph->shape.empty() ? 0.0 : options.shape_weight * graph->shape[size_t(i)][size_t(y)];
 }
 
+double RoomTypeEnergy::FixtureTerm(int i, int y) const {
+  if (graph->without_fixture.empty() || !graph->without_fixture[size_t(i)]) return 0.0;
+  return options.fixture_absence_weight * model->no_fixture_log_prob[size_t(y)];
+}
+
 double RoomTypeEnergy::Unary(int i, int y) const {
   double u = SceneTerm(i, y);
   if (variant.objects)
     for (int g = 0; g < kNumObjectGroups; ++g) u += ObjectTerm(i, g, y);
   if (!graph->shape.empty()) u += ShapeTerm(i, y);
+  u += FixtureTerm(i, y);
   return u;
 }
 

@@ -259,13 +259,14 @@ namespace {
 // Pixel-weighted means of each unary term over the (output) rooms' nodes.
 void AddRoomTerms(const RoomTypeGraph& graph, const RoomTypeEnergy& e, RoomTypeResult* r) {
   const size_t N = graph.segment.size();
-  std::vector<Dist> scene(N), objects(N), shape(N);
+  std::vector<Dist> scene(N), objects(N), shape(N), fixture(N);
   for (size_t i = 0; i < N; ++i)
     for (int y = 0; y < kRoomTypeLabels; ++y) {
       scene[i][size_t(y)] = e.SceneTerm(int(i), y);
       if (e.variant.objects)
         for (int g = 0; g < kNumObjectGroups; ++g) objects[i][size_t(y)] += e.ObjectTerm(int(i), g, y);
       shape[i][size_t(y)] = e.ShapeTerm(int(i), y);
+      fixture[i][size_t(y)] = e.FixtureTerm(int(i), y);
     }
   std::vector<double> pixels(r->assignments.size() + 1, 0.0);
   const ImageU16& ids = r->rooms.room_extent_ids;
@@ -278,6 +279,7 @@ void AddRoomTerms(const RoomTypeGraph& graph, const RoomTypeEnergy& e, RoomTypeR
       a.scene_term[size_t(y)] += scene[size_t(n)][size_t(y)];
       a.object_term[size_t(y)] += objects[size_t(n)][size_t(y)];
       a.shape_term[size_t(y)] += shape[size_t(n)][size_t(y)];
+      a.fixture_term[size_t(y)] += fixture[size_t(n)][size_t(y)];
     }
   }
   for (size_t k = 0; k < r->assignments.size(); ++k)
@@ -286,6 +288,7 @@ void AddRoomTerms(const RoomTypeGraph& graph, const RoomTypeEnergy& e, RoomTypeR
         r->assignments[k].scene_term[size_t(y)] /= pixels[k + 1];
         r->assignments[k].object_term[size_t(y)] /= pixels[k + 1];
         r->assignments[k].shape_term[size_t(y)] /= pixels[k + 1];
+        r->assignments[k].fixture_term[size_t(y)] /= pixels[k + 1];
       }
 }
 

@@ -22,8 +22,20 @@ using namespace room_type_internal;
 
 // ---- Training ----------------------------------------------------------------------------------------------
 
+const std::vector<int>& R2vFixtureLabels() {
+  static const std::vector<int> kLabels = {nyu40::kCounter, nyu40::kToilet, nyu40::kSink, nyu40::kBathtub};
+  return kLabels;
+}
+
+std::array<double, kRoomTypeLabels> NoFixtureLogProb(const ObjectRoomCounts& c) {
+  std::array<double, kRoomTypeLabels> out{};
+  for (int y = 0; y < kRoomTypeLabels; ++y) out[size_t(y)] = std::log((c.without_fixture[size_t(y)] + 1) / (c.rooms[size_t(y)] + 2));
+  return out;
+}
+
 void ObjectRoomCounts::Add(const ObjectRoomCounts& o) {
   for (int y = 0; y < kRoomTypeLabels; ++y) rooms[size_t(y)] += o.rooms[size_t(y)];
+  for (int y = 0; y < kRoomTypeLabels; ++y) without_fixture[size_t(y)] += o.without_fixture[size_t(y)];
   for (size_t k = 0; k < with_object.size() && k < o.with_object.size(); ++k)
     for (int y = 0; y < kRoomTypeLabels; ++y) with_object[k][size_t(y)] += o.with_object[k][size_t(y)];
 }

@@ -87,6 +87,7 @@ std::string RoomTypeModelToJson(const RoomTypeModel& m) {
   j["object_type_given_object"] = m.object_type;
   j["hom_bin_m"] = m.hom_bin_m;
   j["hom_log_prob"] = m.hom_log_prob;
+  j["no_fixture_log_prob"] = m.no_fixture_log_prob;
   ordered_json w = ordered_json::object();
   for (const auto& [name, x] : m.weights)
     w[name] = {{"scene", x.scene}, {"objects", x.objects}, {"homogeneity", x.homogeneity}};
@@ -112,6 +113,7 @@ Result<RoomTypeModel> LoadRoomTypeModel(const std::string& path) {
     m.object_type = j.at("object_type_given_object").get<decltype(m.object_type)>();
     m.hom_bin_m = j.at("hom_bin_m").get<double>();
     m.hom_log_prob = j.at("hom_log_prob").get<decltype(m.hom_log_prob)>();
+    if (j.contains("no_fixture_log_prob")) m.no_fixture_log_prob = j.at("no_fixture_log_prob").get<decltype(m.no_fixture_log_prob)>();
     for (const auto& [name, x] : j.at("weights").items()) {
       RoomTypeWeights w;
       w.scene = x.at("scene").get<double>();

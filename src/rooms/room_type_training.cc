@@ -41,11 +41,6 @@ int R2vFixtureLabel(const std::string& name) {
 
 }  // namespace
 
-const std::vector<int>& R2vFixtureLabels() {
-  static const std::vector<int> kLabels = {12, 33, 34, 36};
-  return kLabels;
-}
-
 std::vector<RoomTypeVariant> AllRoomTypeVariants() {
   std::vector<RoomTypeVariant> out;
   for (ScenePotential s : {ScenePotential::kCnn, ScenePotential::kConfusion})
@@ -191,6 +186,9 @@ ObjectRoomCounts CountApartmentObjects(const Apartment& a) {
       if (o.room == r.id && o.label > 0 && o.label < kNumNyu40) seen[size_t(o.label)] = true;
     for (int k = 1; k < kNumNyu40; ++k)
       if (seen[size_t(k)]) c.with_object[size_t(k)][size_t(r.type_id - 1)] += 1;
+    const std::vector<int>& fixtures = R2vFixtureLabels();
+    if (std::none_of(fixtures.begin(), fixtures.end(), [&](int k) { return seen[size_t(k)]; }))
+      c.without_fixture[size_t(r.type_id - 1)] += 1;
   }
   return c;
 }
@@ -336,6 +334,8 @@ Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int max_plans,
       counts.rooms[size_t(t - 1)] += 1;
       for (int k : R2vFixtureLabels())
         if (has[r][size_t(k)]) counts.with_object[size_t(k)][size_t(t - 1)] += 1;
+      const std::vector<int>& fixtures = R2vFixtureLabels();
+      if (std::none_of(fixtures.begin(), fixtures.end(), [&](int k) { return has[r][size_t(k)]; })) counts.without_fixture[size_t(t - 1)] += 1;
     }
   }
   if (plans_used) *plans_used = used;
@@ -377,6 +377,9 @@ Status RefreshR2vFixtureStatistics(const std::vector<uint64_t>& statistics_seeds
     return Status::InvalidInput("room-type model: " + std::to_string(model->object_type.size()) + " object rows, expected " +
                                 std::to_string(table.size()));
   for (int k : R2vFixtureLabels()) model->object_type[size_t(k)] = table[size_t(k)];
+  ObjectRoomCounts pooled = gen;
+  pooled.Add(*r2v);
+  model->no_fixture_log_prob = NoFixtureLogProb(pooled);
   return Status::Ok();
 }
 
@@ -565,6 +568,9 @@ Result<RoomTypeModel> TrainRoomTypeModel(const std::vector<RoomViewRecord>& reco
     if (c.ok()) r2v = *c, have_r2v = true;
   }
   model.object_type = CombinedObjectStatistics(gen, have_r2v ? &r2v : nullptr);
+  ObjectRoomCounts pooled = gen;
+  if (have_r2v) pooled.Add(r2v);
+  model.no_fixture_log_prob = NoFixtureLogProb(pooled);
   LearnHomogeneityStatistics(truth_scenes, options.crf, &model);
   // Evidence apartments: per-view distributions from a k-NN without the apartment's own rows.
   Result<std::vector<RoomTypeTrainingScene>> scenes =

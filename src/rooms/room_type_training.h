@@ -51,9 +51,6 @@ Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int max_plans,
 Status RefreshR2vFixtureStatistics(const std::vector<uint64_t>& statistics_seeds, const std::string& r2v_dir, int r2v_plans,
                                    RoomTypeModel* model, int* plans_used = nullptr);
 
-// The NYU40 ids the R2V fixtures stand for.
-const std::vector<int>& R2vFixtureLabels();
-
 // Object statistics from the generator counts, with the rows of the R2V fixture classes computed from the
 // pooled counts (generator + R2V rooms) when `r2v` is given.
 std::vector<std::array<double, kRoomTypeLabels>> CombinedObjectStatistics(const ObjectRoomCounts& generator,

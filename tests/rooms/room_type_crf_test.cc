@@ -7,9 +7,12 @@
 //    (conf + stat + obj) reaches per-pixel accuracy >= 0.75 and does not fall below majority voting - 0.05;
 //  - baselines: majority voting takes a segment's most voted type; the dense CRF pulls a weak node to its
 //    confident neighbours within the segment;
-//  - the shipped model's R2V fixture statistics (counter, sink, toilet, bathtub) are those of the training
-//    seeds 0-39 and R2V plans 0-299 exactly (1e-12), and differ from a count that includes the validation
-//    plans 300-399 (skipped when ../shared/data/r2v is absent);
+//  - the absence of fixtures: a room whose top view holds none gains weight x log P(no fixture | y) on every
+//    node (exactly), a room with a toilet nothing; with bathroom unlikely without one, the empty room goes
+//    storage;
+//  - the shipped model's R2V fixture statistics (counter, sink, toilet, bathtub) and its absence statistics
+//    are those of the training seeds 0-39 and R2V plans 0-299 exactly (1e-12), and differ from a count that
+//    includes the validation plans 300-399 (skipped when ../shared/data/r2v is absent);
 //  - the room-type k-NN's rows of real plans: only typed rooms' views, a plan that is no plan skipped and
 //    counted, the same rows twice; the shipped room_type_knn.bin is exactly the k-NN of the true classes of
 //    seeds 0-39 (header and labels byte for byte, descriptors within 1e-4 relative: Embree's kernels differ
@@ -26,6 +29,7 @@
 #include <iterator>
 #include <random>
 
+#include "core/labels.h"
 #include "perception/room_evidence.h"
 #include "perception/view_classifier.h"
 #include "rooms/r2v_plan.h"
@@ -212,6 +216,47 @@ TEST(RoomTypeCrf, ObjectPotentialPicksBathroomForToiletAndSink) {
   EXPECT_EQ(std::max_element(total.begin(), total.end()) - total.begin(), 0) << "bathroom is index 0";
 }
 
+// Two rooms of one size, no views: the left one holds a toilet in the top view, the right one nothing. With
+// log P(no fixture | y) set (bathroom -3, storage -0.01, the rest -0.5), the right room's every node gains
+// exactly weight x those values and prefers storage; the toilet room gains nothing. Weight 0, or no top view,
+// turns the term off.
+TEST(RoomTypeCrf, RoomWithoutAFixtureLeansAwayFromTheTypesThatHoldOne) {
+  RoomTypeModel model = RoomTypeModel::Uninformative();
+  const int bathroom = 0, storage = 10;  // Indices (id - 1).
+  model.no_fixture_log_prob.fill(-0.5);
+  model.no_fixture_log_prob[size_t(bathroom)] = -3, model.no_fixture_log_prob[size_t(storage)] = -0.01;
+  FloorPlan p = OpenPlan(60, 30);
+  const RoomSegmentation rooms = TwoRooms(p, 30);
+  Image<uint16_t> top(60, 30, 1, 0);
+  for (int y = 10; y < 16; ++y)
+    for (int x = 10; x < 16; ++x) top.at(x, y) = nyu40::kToilet;
+  for (const double weight : {1.0, 2.0, 0.0}) {
+    RoomTypeCrfOptions o;
+    o.fixture_absence_weight = weight;
+    Result<RoomTypeGraph> g = BuildRoomTypeGraph(p, rooms, {}, top, model, o);
+    ASSERT_TRUE(g.ok()) << g.status().message();
+    ASSERT_EQ(g->without_fixture.size(), g->segment.size());
+    const RoomTypeEnergy e{&*g, &model, o.variant, RoomTypeWeights{}, o};
+    for (size_t n = 0; n < g->segment.size(); ++n) {
+      EXPECT_EQ(g->without_fixture[n], g->segment[n] == 2) << "node " << n;
+      for (int y = 0; y < kRoomTypeLabels; ++y)
+        EXPECT_DOUBLE_EQ(e.FixtureTerm(int(n), y), g->segment[n] == 2 ? weight * model.no_fixture_log_prob[size_t(y)] : 0.0);
+    }
+    if (weight == 0) continue;
+    const Result<RoomTypeResult> r = InferRoomTypes(p, rooms, {}, top, model, o, RoomTypeMethod::kGibbsCrf);
+    ASSERT_TRUE(r.ok()) << r.status().message();
+    ASSERT_EQ(r->assignments.size(), 2u);
+    EXPECT_EQ(r->assignments[1].type_id, storage + 1) << "weight " << weight;
+    EXPECT_NEAR(r->assignments[1].fixture_term[size_t(bathroom)], -3 * weight, 1e-9);
+    EXPECT_EQ(r->assignments[0].fixture_term[size_t(bathroom)], 0.0);
+  }
+  RoomTypeCrfOptions o;
+  Result<RoomTypeGraph> no_top = BuildRoomTypeGraph(p, rooms, {}, Image<uint16_t>(), model, o);
+  ASSERT_TRUE(no_top.ok());
+  const RoomTypeEnergy e{&*no_top, &model, o.variant, RoomTypeWeights{}, o};
+  for (size_t n = 0; n < no_top->segment.size(); ++n) EXPECT_EQ(e.FixtureTerm(int(n), bathroom), 0.0);
+}
+
 // A bed read mostly right with a patch of sofa on it. At min_object_share 0 every class present counts fully
 // (the paper's Eq. 5); at 0.3 the patch, 100 of its piece's 1120 cells, counts 0.089 / 0.3 of that, the bed
 // (0.91 of the piece) fully; a small sofa standing apart is a piece of its own and counts fully again.
@@ -314,6 +359,7 @@ TEST(RoomTypeCrf, ModelRoundTripsThroughJson) {
   RoomTypeWeights w;
   w.scene = 2.5, w.objects = {0.1, 0.2, 0.3, 0.4}, w.homogeneity = 0.7;
   m.SetWeights(RoomTypeVariant{}, w);
+  m.no_fixture_log_prob[0] = -3.25;
   const std::string path = (std::filesystem::temp_directory_path() / "semvox_room_type_model_test.json").string();
   ASSERT_TRUE(SaveRoomTypeModel(m, path).ok());
   Result<RoomTypeModel> back = LoadRoomTypeModel(path);
@@ -322,6 +368,8 @@ TEST(RoomTypeCrf, ModelRoundTripsThroughJson) {
   EXPECT_EQ(back->object_type[33][0], 0.9);
   EXPECT_EQ(back->WeightsFor(RoomTypeVariant{}).homogeneity, 0.7);
   EXPECT_EQ(back->WeightsFor(RoomTypeVariant{}).objects[3], 0.4);
+  EXPECT_EQ(back->no_fixture_log_prob[0], -3.25);
+  EXPECT_EQ(back->no_fixture_log_prob[1], 0.0);
   std::filesystem::remove(path);
   EXPECT_FALSE(LoadRoomTypeModel(path).ok());
 }
@@ -483,6 +531,13 @@ TEST(RoomTypeTraining, ShippedFixtureStatisticsCountNoValidationPlan) {
       leak = std::max(leak, std::abs(with_validation.object_type[size_t(k)][size_t(t)] - train_only.object_type[size_t(k)][size_t(t)]));
     }
   EXPECT_GT(leak, 1e-3);  // The validation plans would move the statistics: the check above can fail.
+  // The absence statistics too; bathrooms, kitchens and laundries nearly always hold a fixture, storage rooms
+  // and bedrooms nearly never.
+  for (int t = 0; t < kRoomTypeLabels; ++t)
+    EXPECT_NEAR(shipped->no_fixture_log_prob[size_t(t)], train_only.no_fixture_log_prob[size_t(t)], 1e-12) << "type " << t;
+  const auto& absent = shipped->no_fixture_log_prob;
+  for (int wet : {0, 5, 6}) EXPECT_LT(absent[size_t(wet)], std::log(0.1)) << "type " << wet;  // Bathroom, kitchen, laundry.
+  for (int dry : {1, 10}) EXPECT_GT(absent[size_t(dry)], std::log(0.9)) << "type " << dry;   // Bedroom, storage.
 }
 
 TEST(RoomTypeTraining, KnnRowsOfRealPlansAreTheirTypedRoomsViews) {
