@@ -212,12 +212,12 @@ Result<RoomTypeGraph> BuildRoomTypeGraph(const FloorPlan& plan, const RoomSegmen
         }
       }
     // Rooms without any fixture cell (the absence term).
+    const std::vector<int>& fixtures = R2vFixtureLabels();
     std::vector<bool> fixture_seen(num_rooms + 1, false);
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) {
         const int r = rooms.room_extent_ids.at(x, y), k = topview_labels.at(x, y);
         if (r < 1 || r > num_rooms || fixture_seen[size_t(r)]) continue;
-        const std::vector<int>& fixtures = R2vFixtureLabels();
         fixture_seen[size_t(r)] = std::find(fixtures.begin(), fixtures.end(), k) != fixtures.end();
       }
     g.without_fixture.assign(N, false);

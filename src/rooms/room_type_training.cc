@@ -332,10 +332,10 @@ Result<ObjectRoomCounts> CountR2vFixtures(const std::string& dir, int max_plans,
       const int t = region_type[r];
       if (t < 1) continue;  // Conflicting labels: skipped.
       counts.rooms[size_t(t - 1)] += 1;
+      bool any = false;
       for (int k : R2vFixtureLabels())
-        if (has[r][size_t(k)]) counts.with_object[size_t(k)][size_t(t - 1)] += 1;
-      const std::vector<int>& fixtures = R2vFixtureLabels();
-      if (std::none_of(fixtures.begin(), fixtures.end(), [&](int k) { return has[r][size_t(k)]; })) counts.without_fixture[size_t(t - 1)] += 1;
+        if (has[r][size_t(k)]) counts.with_object[size_t(k)][size_t(t - 1)] += 1, any = true;
+      if (!any) counts.without_fixture[size_t(t - 1)] += 1;
     }
   }
   if (plans_used) *plans_used = used;

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -61,6 +62,17 @@ bool InsideBox(const OrientedBox& b, const Eigen::Vector3d& p) {
   const Eigen::Vector3d q = p - b.center;
   const double lx = c * q.x() + s * q.y(), ly = -s * q.x() + c * q.y();
   return std::fabs(lx) <= b.size.x() / 2 && std::fabs(ly) <= b.size.y() / 2 && std::fabs(q.z()) <= b.size.z() / 2;
+}
+
+// The four corners of a box's footprint (x, y).
+std::array<Eigen::Vector2d, 4> FootprintCorners(const OrientedBox& b) {
+  const double c = std::cos(b.yaw_rad), s = std::sin(b.yaw_rad);
+  std::array<Eigen::Vector2d, 4> out;
+  for (int corner = 0; corner < 4; ++corner) {
+    const double lx = (corner & 1 ? 0.5 : -0.5) * b.size.x(), ly = (corner & 2 ? 0.5 : -0.5) * b.size.y();
+    out[size_t(corner)] = Eigen::Vector2d(b.center.x() + c * lx - s * ly, b.center.y() + s * lx + c * ly);
+  }
+  return out;
 }
 
 TEST(PlanApartment, LShapedFlatHasItsRoomsWallsDoorGapAndFixture) {
@@ -142,12 +154,9 @@ TEST(PlanApartment, FurnitureStandsOnItsRoomsFloorClearOfWallsAndDoors) {
       if (o.label == nyu40::kWindow || o.label == nyu40::kToilet) continue;
       EXPECT_EQ(o.room, 1) << "seed " << seed << ": a " << o.label << " outside the living room";
       ++living;
-      const double c = std::cos(o.box.yaw_rad), s = std::sin(o.box.yaw_rad);
-      for (int corner = 0; corner < 4; ++corner) {
-        const double lx = (corner & 1 ? 0.5 : -0.5) * o.box.size.x(), ly = (corner & 2 ? 0.5 : -0.5) * o.box.size.y();
-        const double x = o.box.center.x() + c * lx - s * ly, y = o.box.center.y() + s * lx + c * ly;
-        EXPECT_EQ(RoomIdAt(*apt, x, y), 1) << "seed " << seed << ": object " << o.label << " corner (" << x << ", " << y << ")";
-        EXPECT_GT(std::hypot(x - 3.0, y - 2.05), 0.3) << "seed " << seed << ": object " << o.label << " in the door gap";
+      for (const Eigen::Vector2d& p : FootprintCorners(o.box)) {
+        EXPECT_EQ(RoomIdAt(*apt, p.x(), p.y()), 1) << "seed " << seed << ": object " << o.label << " corner " << p.transpose();
+        EXPECT_GT(std::hypot(p.x() - 3.0, p.y() - 2.05), 0.3) << "seed " << seed << ": object " << o.label << " in the door gap";
       }
     }
     EXPECT_GE(living, 2) << "seed " << seed << ": the living room is furnished";
@@ -193,12 +202,7 @@ TEST(PlanApartment, BedroomGetsItsBedWhenOneFitsBeforeTheFewestDoors) {
       if (o.label != nyu40::kBed) continue;
       ++beds;
       EXPECT_EQ(o.room, 1);
-      // Footprint on the room's floor; the door gaps whose passage (0.15 m inside the room) it covers.
-      const double c = std::cos(o.box.yaw_rad), s = std::sin(o.box.yaw_rad);
-      for (int corner = 0; corner < 4; ++corner) {
-        const double lx = (corner & 1 ? 0.5 : -0.5) * o.box.size.x(), ly = (corner & 2 ? 0.5 : -0.5) * o.box.size.y();
-        EXPECT_EQ(RoomIdAt(*apt, o.box.center.x() + c * lx - s * ly, o.box.center.y() + s * lx + c * ly), 1) << "seed " << seed;
-      }
+      for (const Eigen::Vector2d& p : FootprintCorners(o.box)) EXPECT_EQ(RoomIdAt(*apt, p.x(), p.y()), 1) << "seed " << seed;
       // Doors whose passage (points across the gap, 0.2 m inside the room) the bed covers.
       int blocked = 0;
       for (int door = 0; door < 4; ++door) {
