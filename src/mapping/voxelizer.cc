@@ -544,9 +544,24 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, co
     std::vector<size_t> order(regions.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
     std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return regions[a].cells > regions[b].cells; });
+    // A room no door of the model leads into (a plan's opening drawn as wall, a flat's part reached from the
+    // stairwell) borders no seen free space either; it differs from the inside of a closed piece of furniture
+    // by what stands over it: the ceiling, not a lid. Such a region gets a position when it holds a person's
+    // floor area and the first surfaces straight above and below its most open cell are the detected ceiling
+    // and floor.
+    const double tolerance = options.sealed_room_tolerance_m;
+    auto sealed_room = [&](const Region& r) {
+      if (tolerance <= 0 || !map.floor_found || !map.ceiling_found) return false;
+      if (double(r.cells) * res * res < options.min_sealed_room_m2) return false;
+      Eigen::Vector3d p = grid.CellCenter(int(r.best % W), int(r.best / W), cz);
+      p.z() = z;
+      const double up = DistanceToOccupied(grid, p, Eigen::Vector3d::UnitZ(), map.ceiling_z - z + 2 * tolerance);
+      const double down = DistanceToOccupied(grid, p, -Eigen::Vector3d::UnitZ(), z - map.floor_z + 2 * tolerance);
+      return up >= 0 && down >= 0 && std::fabs(z + up - map.ceiling_z) <= tolerance && std::fabs(z - down - map.floor_z) <= tolerance;
+    };
     for (size_t i : order) {
       if (int(out.size()) >= options.max_pocket_positions) break;
-      if (!regions[i].reached) continue;
+      if (!regions[i].reached && !sealed_room(regions[i])) continue;
       const size_t c = regions[i].best;
       Eigen::Vector3d p = grid.CellCenter(int(c % W), int(c / W), cz);
       p.z() = z;

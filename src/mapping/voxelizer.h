@@ -45,6 +45,12 @@ struct VoxelizeOptions {
   // none.
   int pocket_rounds = 3;
   int max_pocket_positions = 64;
+  // Sealed rooms: a pocket that borders no seen free space (no door of the model leads into it) still gets a
+  // position when it holds at least min_sealed_room_m2 of clear cells and the first surfaces straight above and
+  // below its most open cell lie within sealed_room_tolerance_m of the detected ceiling and floor (a room, not
+  // the inside of a closed cabinet, whose lid is lower). Needs a found floor and ceiling; tolerance 0 = off.
+  double min_sealed_room_m2 = 0.5;
+  double sealed_room_tolerance_m = 0.2;
 
   // The fields users set (section `mapping`): meaning, unit and range.
   static const OptionTable<VoxelizeOptions>& Options() {
@@ -69,6 +75,10 @@ struct VoxelizeOptions {
                      "rounds of extra scan positions in unseen clear pockets (closets, WCs) the grid missed; 0 = off"),
         OptionNumber(&O::max_pocket_positions, "max_pocket_positions", 1, 100000, "",
                      "extra positions per round at most, largest pockets first"),
+        OptionNumber(&O::min_sealed_room_m2, "min_sealed_room_m2", 0, 1000, "m2",
+                     "an unseen pocket no door leads into gets a position from this clear area on, ..."),
+        OptionNumber(&O::sealed_room_tolerance_m, "sealed_room_tolerance_m", 0, 2, "metres",
+                     "... when the surfaces straight above and below it are the ceiling and the floor within this; 0 = off"),
     };
     return table;
   }

@@ -266,6 +266,62 @@ TEST(Voxelize, ClosetBehindADoorGetsAPocketPositionAndIsSeenThrough) {
   }
 }
 
+// A room no door leads into: 1.8 m x 1.25 m beyond the solid east wall of the 4 m x 3 m room (a plan's opening
+// drawn as wall), placed so that no point of the 1 m position grid has its clearance in it. It borders no seen
+// free space, so only the sealed-room rule gives it a position: the first surfaces above and below its most
+// open cell are the ceiling and the floor. A closed cabinet of about its size (1.75 x 1.2 x 2.1 m, in the main
+// room, also missed by the grid) has its lid 0.4 m under the ceiling and gets none; with the rule off
+// (tolerance 0) neither does the room. Both runs take sealed rooms from 0.25 m² of clear cells, so the lid, not
+// the area, is what keeps the cabinet out.
+TEST(Voxelize, RoomNoDoorLeadsIntoGetsAPositionButAClosedCabinetDoesNot) {
+  const double T = 0.25, H = 2.5;
+  std::vector<Box> boxes = RoomWithTable();
+  boxes[0] = {{-T, -T, -T}, {6.3, 3.0 + T, 0}};  // Floor and ceiling slabs under the sealed room too.
+  boxes[1] = {{-T, -T, H}, {6.3, 3.0 + T, H + T}};
+  boxes.push_back({{6.05, -T, 0}, {6.3, 1.5, H}});     // Sealed room [4.25, 6.05] x [0, 1.25]: east wall,
+  boxes.push_back({{4.25, -T, 0}, {6.05, 0, H}});      // south wall,
+  boxes.push_back({{4.25, 1.25, 0}, {6.05, 1.5, H}});  // north wall.
+  boxes.push_back({{2.2, 1.8, 0}, {3.95, 3.0, 2.1}});  // Closed cabinet, lid at 2.1 m.
+  Scene scene;
+  scene.mesh = ToMesh(boxes);
+  auto sealed_free = [&](const VoxelMap& map) {
+    const VoxelGrid& g = map.grid;
+    int free = 0, total = 0;
+    for (double x = 4.3; x < 6.0; x += 0.05)
+      for (double y = 0.05; y < 1.2; y += 0.05)
+        for (double z = 0.8; z < 1.8; z += 0.05) {
+          const auto c = g.CellOf({x, y, z});
+          free += g.state(g.Index(c[0], c[1], c[2])) == VoxelState::kFree;
+          ++total;
+        }
+    return double(free) / total;
+  };
+  auto in_sealed = [](const Eigen::Vector3d& p) { return p.x() > 4.25 && p.x() < 6.05 && p.y() > 0 && p.y() < 1.25; };
+  auto in_cabinet = [](const Eigen::Vector3d& p) { return p.x() > 2.2 && p.x() < 3.95 && p.y() > 1.8 && p.y() < 3.0; };
+  VoxelizeOptions on;
+  on.min_sealed_room_m2 = 0.25;
+  VoxelizeOptions off = on;
+  off.sealed_room_tolerance_m = 0;
+  Result<VoxelMap> a = Voxelize(scene, off);
+  ASSERT_TRUE(a.ok()) << a.status().message();
+  for (const auto& p : a->scan_positions) EXPECT_FALSE(in_cabinet(p)) << "the grid should miss the cabinet: " << p.transpose();
+  Result<VoxelMap> b = Voxelize(scene, on);
+  ASSERT_TRUE(b.ok()) << b.status().message();
+  int sealed_a = 0, sealed_b = 0;
+  for (const auto& p : a->scan_positions) sealed_a += in_sealed(p);
+  for (const auto& p : b->scan_positions) {
+    sealed_b += in_sealed(p);
+    EXPECT_FALSE(in_cabinet(p)) << "inside the closed cabinet: " << p.transpose();
+    EXPECT_TRUE(p.x() > 0 && p.x() < 6.05 && p.y() > 0 && p.y() < 3.0) << "outside the flat: " << p.transpose();
+  }
+  const double fa = sealed_free(*a), fb = sealed_free(*b);
+  std::printf("sealed room free share at 0.8-1.8 m: %.3f without the rule, %.3f with it\n", fa, fb);
+  EXPECT_EQ(sealed_a, 0);
+  EXPECT_EQ(sealed_b, 1);
+  EXPECT_LT(fa, 0.05);
+  EXPECT_GE(fb, 0.97);
+}
+
 // CastFreeSpace (precomputed targets, rays stepped four at a time with the inside-grid traversal, parallel
 // over the targets) marks exactly the voxels of a plain serial cast with the general traversal, from
 // positions in the middle of the room, on cell borders, and next to the grid's border.
