@@ -550,22 +550,19 @@ Result<VoxelMap> Voxelize(const Scene& scene, const VoxelizeOptions& options, co
     // floor area and the first surfaces straight above and below its most open cell are the detected ceiling
     // and floor.
     const double tolerance = options.sealed_room_tolerance_m;
-    auto sealed_room = [&](const Region& r) {
+    auto sealed_room = [&](const Region& r, const Eigen::Vector3d& p) {
       if (tolerance <= 0 || !map.floor_found || !map.ceiling_found) return false;
       if (double(r.cells) * res * res < options.min_sealed_room_m2) return false;
-      Eigen::Vector3d p = grid.CellCenter(int(r.best % W), int(r.best / W), cz);
-      p.z() = z;
       const double up = DistanceToOccupied(grid, p, Eigen::Vector3d::UnitZ(), map.ceiling_z - z + 2 * tolerance);
       const double down = DistanceToOccupied(grid, p, -Eigen::Vector3d::UnitZ(), z - map.floor_z + 2 * tolerance);
       return up >= 0 && down >= 0 && std::fabs(z + up - map.ceiling_z) <= tolerance && std::fabs(z - down - map.floor_z) <= tolerance;
     };
     for (size_t i : order) {
       if (int(out.size()) >= options.max_pocket_positions) break;
-      if (!regions[i].reached && !sealed_room(regions[i])) continue;
       const size_t c = regions[i].best;
       Eigen::Vector3d p = grid.CellCenter(int(c % W), int(c / W), cz);
       p.z() = z;
-      if (floor_and_enclosure(p, true)) out.push_back(p);
+      if ((regions[i].reached || sealed_room(regions[i], p)) && floor_and_enclosure(p, true)) out.push_back(p);
     }
     return out;
   };

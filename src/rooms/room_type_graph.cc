@@ -211,17 +211,14 @@ Result<RoomTypeGraph> BuildRoomTypeGraph(const FloorPlan& plan, const RoomSegmen
           weight[size_t(r)][size_t(k)] = std::max(weight[size_t(r)][size_t(k)], w);
         }
       }
-    // Rooms without any fixture cell (the absence term).
+    // Rooms without any fixture cell (the absence term): the fixtures are object classes, so a room holds one
+    // exactly where a piece above gave it a weight.
     const std::vector<int>& fixtures = R2vFixtureLabels();
-    std::vector<bool> fixture_seen(num_rooms + 1, false);
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        const int r = rooms.room_extent_ids.at(x, y), k = topview_labels.at(x, y);
-        if (r < 1 || r > num_rooms || fixture_seen[size_t(r)]) continue;
-        fixture_seen[size_t(r)] = std::find(fixtures.begin(), fixtures.end(), k) != fixtures.end();
-      }
     g.without_fixture.assign(N, false);
-    for (size_t n = 0; n < N; ++n) g.without_fixture[n] = !fixture_seen[size_t(g.segment[n])];
+    for (size_t n = 0; n < N; ++n) {
+      const std::vector<double>& present = weight[size_t(g.segment[n])];
+      g.without_fixture[n] = std::none_of(fixtures.begin(), fixtures.end(), [&](int k) { return present[size_t(k)] > 0; });
+    }
     const double sigma_px = options.object_sigma_m / res;
     tbb::parallel_for(1, num_rooms + 1, [&](int r) {
       if (x1[r] < 0) return;

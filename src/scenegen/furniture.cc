@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <utility>
 
 #include "core/labels.h"
 #include "scenegen/apartment_builder.h"
@@ -110,20 +111,33 @@ class RoomFurnisher {
   }
   void Take(const Footprint& f) { taken_.push_back(f); }
 
+  // `sides`, or when empty every side with a wall (not the open side of an open-plan space).
+  std::vector<int> SidesOrWalls(std::vector<int> sides) const {
+    if (sides.empty())
+      for (int s = 0; s < 4; ++s)
+        if (HasWall(s)) sides.push_back(s);
+    return sides;
+  }
+  // The interior's extent along side s (x for south and north, y for east and west).
+  std::pair<double, double> SideExtent(int s) const {
+    const Rect& in = r_.interior;
+    return (s == kSouth || s == kNorth) ? std::pair<double, double>(in.x0, in.x1) : std::pair<double, double>(in.y0, in.y1);
+  }
+  // The walkway `front` metres deep in front of an object w x d at pose p, up to knee height.
+  Footprint FrontFootprint(const Pose& p, double w, double d, double front) const {
+    return FootprintAt(p, w, front, 0, 0.5, 0, d / 2 + front / 2 + 1e-3);
+  }
   // Finds a spot against one of `sides` for an object w x d x h (plus `front` metres kept free in front of
   // it, up to knee height), optionally at `mount_z` above the floor. False when nothing fits.
   // An empty `sides` means every side with a wall (not the open side of an open-plan space).
   bool PlaceAgainstWall(double w, double d, double h, std::vector<int> sides, double front, Pose* out,
                         double mount_z = 0.0, int attempts = 40) {
     front *= plan_.front_clearance_scale;
-    if (sides.empty())
-      for (int s = 0; s < 4; ++s)
-        if (HasWall(s)) sides.push_back(s);
+    sides = SidesOrWalls(std::move(sides));
     if (sides.empty()) return false;
     for (int k = 0; k < attempts; ++k) {
       const int s = rng_->Pick(sides);
-      const Rect& in = r_.interior;
-      const double lo = (s == kSouth || s == kNorth) ? in.x0 : in.y0, hi = (s == kSouth || s == kNorth) ? in.x1 : in.y1;
+      const auto [lo, hi] = SideExtent(s);
       if (hi - lo < w + 2 * kGap) continue;
       // Corners are popular: a third of the draws go flush to one end.
       double along;
@@ -134,7 +148,7 @@ class RoomFurnisher {
       const Pose p = AgainstWall(s, along, d);
       const Footprint f = FootprintAt(p, w, d, mount_z, mount_z + h);
       if (!Free(f)) continue;
-      if (front > 0 && !Free(FootprintAt(p, w, front, 0, 0.5, 0, d / 2 + front / 2 + 1e-3))) continue;
+      if (front > 0 && !Free(FrontFootprint(p, w, d, front))) continue;
       *out = p;
       return true;
     }
@@ -148,9 +162,7 @@ class RoomFurnisher {
     if (PlaceAgainstWall(w, d, h, sides, front, out)) return true;
     if (!plan_.place_defining_furniture) return false;
     front *= plan_.front_clearance_scale;
-    if (sides.empty())
-      for (int s = 0; s < 4; ++s)
-        if (HasWall(s)) sides.push_back(s);
+    sides = SidesOrWalls(std::move(sides));
     struct Pass {
       double front;
       const std::vector<Footprint>* keep_out;
@@ -162,15 +174,12 @@ class RoomFurnisher {
       std::vector<Pose> spots;
       size_t fewest = SIZE_MAX;
       for (const int s : sides) {
-        const Rect& in = r_.interior;
-        const bool along_x = s == kSouth || s == kNorth;
-        const double lo = (along_x ? in.x0 : in.y0) + kGap + w / 2, hi = (along_x ? in.x1 : in.y1) - kGap - w / 2;
-        for (double along = lo; along <= hi + 1e-9; along += kScanStep) {
+        const auto [lo, hi] = SideExtent(s);
+        for (double along = lo + kGap + w / 2; along <= hi - kGap - w / 2 + 1e-9; along += kScanStep) {
           const Pose p = AgainstWall(s, along, d);
           const Footprint f = FootprintAt(p, w, d, 0, h);
           if (!FreeOf(f, pass.keep_out)) continue;
-          if (pass.front > 0 && !FreeOf(FootprintAt(p, w, pass.front, 0, 0.5, 0, d / 2 + pass.front / 2 + 1e-3), pass.keep_out))
-            continue;
+          if (pass.front > 0 && !FreeOf(FrontFootprint(p, w, d, pass.front), pass.keep_out)) continue;
           const size_t blocked = pass.keep_out ? 0 : size_t(std::count_if(passages_.begin(), passages_.end(), [&](const Footprint& o) { return Overlaps(f, o); }));
           if (blocked > fewest) continue;
           if (blocked < fewest) spots.clear(), fewest = blocked;

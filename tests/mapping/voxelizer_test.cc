@@ -210,6 +210,20 @@ TEST(Voxelize, DenseCloudAgreesWithTheMeshAndDoesNotLeak) {
   }
 }
 
+// Share of free voxels at points 5 cm apart from `lo` up to (not including) `hi`.
+double FreeShare(const VoxelMap& map, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  const VoxelGrid& g = map.grid;
+  int free = 0, total = 0;
+  for (double x = lo.x(); x < hi.x(); x += 0.05)
+    for (double y = lo.y(); y < hi.y(); y += 0.05)
+      for (double z = lo.z(); z < hi.z(); z += 0.05) {
+        const auto c = g.CellOf({x, y, z});
+        free += g.state(g.Index(c[0], c[1], c[2])) == VoxelState::kFree;
+        ++total;
+      }
+  return double(free) / total;
+}
+
 // Pocket positions on real layouts: a closet 0.9 m x 1.2 m behind a door (0.6 m wide, lintel at 2.0 m) in
 // the east wall of the 4 m x 3 m room: the 1 m grid has no position in it (the nearest grid point is 7.5 cm
 // from its wall), so without pocket positions most of it stays unknown; with them it gets a position and is
@@ -229,18 +243,7 @@ TEST(Voxelize, ClosetBehindADoorGetsAPocketPositionAndIsSeenThrough) {
   boxes.push_back({{0.1, 2.0, 0}, {1.3, 2.9, 2.1}});         // A closed wardrobe: its sealed inside is no pocket.
   Scene scene;
   scene.mesh = ToMesh(boxes);
-  auto closet_free = [&](const VoxelMap& map) {
-    const VoxelGrid& g = map.grid;
-    int free = 0, total = 0;
-    for (double x = 4.3; x < 5.1; x += 0.05)
-      for (double y = 0.05; y < 1.15; y += 0.05)
-        for (double z = 0.8; z < 1.8; z += 0.05) {
-          const auto c = g.CellOf({x, y, z});
-          free += g.state(g.Index(c[0], c[1], c[2])) == VoxelState::kFree;
-          ++total;
-        }
-    return double(free) / total;
-  };
+  auto closet_free = [](const VoxelMap& map) { return FreeShare(map, {4.3, 0.05, 0.8}, {5.1, 1.15, 1.8}); };
   auto in_closet = [](const Eigen::Vector3d& p) { return p.x() > 4.25 && p.x() < 5.15 && p.y() > 0 && p.y() < 1.2; };
   VoxelizeOptions without;
   without.pocket_rounds = 0;
@@ -284,18 +287,7 @@ TEST(Voxelize, RoomNoDoorLeadsIntoGetsAPositionButAClosedCabinetDoesNot) {
   boxes.push_back({{2.2, 1.8, 0}, {3.95, 3.0, 2.1}});  // Closed cabinet, lid at 2.1 m.
   Scene scene;
   scene.mesh = ToMesh(boxes);
-  auto sealed_free = [&](const VoxelMap& map) {
-    const VoxelGrid& g = map.grid;
-    int free = 0, total = 0;
-    for (double x = 4.3; x < 6.0; x += 0.05)
-      for (double y = 0.05; y < 1.2; y += 0.05)
-        for (double z = 0.8; z < 1.8; z += 0.05) {
-          const auto c = g.CellOf({x, y, z});
-          free += g.state(g.Index(c[0], c[1], c[2])) == VoxelState::kFree;
-          ++total;
-        }
-    return double(free) / total;
-  };
+  auto sealed_free = [](const VoxelMap& map) { return FreeShare(map, {4.3, 0.05, 0.8}, {6.0, 1.2, 1.8}); };
   auto in_sealed = [](const Eigen::Vector3d& p) { return p.x() > 4.25 && p.x() < 6.05 && p.y() > 0 && p.y() < 1.25; };
   auto in_cabinet = [](const Eigen::Vector3d& p) { return p.x() > 2.2 && p.x() < 3.95 && p.y() > 1.8 && p.y() < 3.0; };
   VoxelizeOptions on;
