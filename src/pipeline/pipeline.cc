@@ -114,13 +114,17 @@ Status RoomsStage(const std::string& models_dir, PipelineResult* r) {
   const PipelineConfig& config = r->config;
   r->plan = FloorPlanFromVoxels(r->final_grid(), r->map.floor_z, r->map.ceiling_z, r->occupancy, config.floor_plan);
   r->rooms = SegmentRooms(r->plan, config.rooms);
-  if (!r->labels) return Status::Ok();
+  if (!r->labels) {  // Untyped rooms: the unseen pockets join them now.
+    JoinEnclosedUnknown(r->plan, config.rooms.max_enclosed_unknown_m2, &r->rooms.room_extent_ids);
+    return Status::Ok();
+  }
   const ImageU16 topview = SemanticTopView(r->labels->map, r->map.grid, r->map.floor_z, config.occupancy.band_min_above_floor_m,
                                            config.occupancy.band_max_above_floor_m, config.room_types.min_object_confidence);
   RoomTypeCrfOptions rt = config.room_types;
   if (rt.model_path.empty()) rt.model_path = models_dir + "/room_type_crf.json";
   if (rt.shape_model_path.empty()) rt.shape_model_path = models_dir + "/room_shape.json";
-  Result<RoomTypesStageResult> typed = TypeRooms(r->plan, r->rooms, r->evidence->rooms, topview, rt);
+  Result<RoomTypesStageResult> typed =
+      TypeRooms(r->plan, r->rooms, r->evidence->rooms, topview, rt, config.rooms.max_enclosed_unknown_m2);
   if (!typed.ok()) return typed.status();
   r->room_types = std::move(typed).value();
   // What rooms.png holds (split-off areas with their new ids).

@@ -11,7 +11,8 @@
 namespace semvox {
 
 Result<RoomTypesStageResult> TypeRooms(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
-                                       const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options) {
+                                       const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options,
+                                       double max_enclosed_unknown_m2) {
   const std::string& model_path = options.model_path;
   if (model_path.empty()) return Status::Internal("room types: no model file given (RoomTypeCrfOptions::model_path is empty)");
   Result<RoomTypeModel> model = LoadRoomTypeModel(model_path);
@@ -35,6 +36,7 @@ Result<RoomTypesStageResult> TypeRooms(const FloorPlan& plan, const RoomSegmenta
   typed.shapes_used = shapes.has_value();
   typed.views = views.size();
   typed.result = std::move(result).value();
+  JoinEnclosedUnknown(plan, max_enclosed_unknown_m2, &typed.result.rooms.room_extent_ids, &typed.result.pixel_types);
   typed.described = DescribeRooms(plan, typed.result.rooms);
   for (RoomDescription& d : typed.described) {
     if (d.id < 1 || d.id > int(typed.result.assignments.size())) continue;
@@ -102,7 +104,8 @@ nlohmann::ordered_json RoomTypesSummaryJson(const RoomTypesStageResult& typed) {
 Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
                         const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options, const std::string& outdir,
                         nlohmann::ordered_json* summary, const Eigen::Isometry3d& input_from_world, ImageU16* room_ids) {
-  Result<RoomTypesStageResult> typed = TypeRooms(plan, rooms, views, topview_labels, options);
+  Result<RoomTypesStageResult> typed =
+      TypeRooms(plan, rooms, views, topview_labels, options, RoomSegmentationOptions().max_enclosed_unknown_m2);
   if (!typed.ok()) return typed.status();
   SEMVOX_RETURN_IF_ERROR(WriteRoomTypeOutputs(*typed, plan, outdir, input_from_world));
   if (room_ids) *room_ids = typed->result.rooms.room_extent_ids;  // What rooms.png holds.

@@ -1,7 +1,7 @@
 // The room-type stage of the pipeline: room types for the segmented rooms from the per-view room-type evidence
 // and the semantic top view, by the room-type CRF (rooms/room_type_crf.h).
 //
-//   Result<RoomTypesStageResult> typed = TypeRooms(plan, rooms, views, topview, options);
+//   Result<RoomTypesStageResult> typed = TypeRooms(plan, rooms, views, topview, options, max_enclosed_unknown_m2);
 //   WriteRoomTypeOutputs(*typed, plan, outdir, input_from_world);
 //   summary["room_types"] = RoomTypesSummaryJson(*typed);
 //
@@ -37,8 +37,11 @@ struct RoomTypesStageResult {
   size_t views = 0;                         // Views of evidence.
 };
 
+// After the CRF, unseen pockets of at most `max_enclosed_unknown_m2` that one room encloses join it, with its
+// type (JoinEnclosedUnknown; 0 = none).
 Result<RoomTypesStageResult> TypeRooms(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
-                                       const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options);
+                                       const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options,
+                                       double max_enclosed_unknown_m2);
 
 Status WriteRoomTypeOutputs(const RoomTypesStageResult& typed, const FloorPlan& plan, const std::string& outdir,
                             const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
@@ -46,7 +49,7 @@ Status WriteRoomTypeOutputs(const RoomTypesStageResult& typed, const FloorPlan& 
 // summary.json's rooms."room_types" object: method, model, rooms with their types and shapes, seconds.
 nlohmann::ordered_json RoomTypesSummaryJson(const RoomTypesStageResult& typed);
 
-// TypeRooms and WriteRoomTypeOutputs in one; adds "room_types" to `summary` (optional), and `room_ids`
+// TypeRooms (pockets joined as RoomSegmentationOptions' default) and WriteRoomTypeOutputs in one; adds "room_types" to `summary` (optional), and `room_ids`
 // (optional) receives what rooms.png holds.
 Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
                         const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options, const std::string& outdir,

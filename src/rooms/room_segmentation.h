@@ -54,6 +54,8 @@ struct RoomSegmentationOptions {
   double min_room_area_m2 = 0.5;     // A closet is 0.5 m².
   double min_seed_area_m2 = 1.0;
   double max_speck_distance_m = 0.5;
+  // JoinEnclosedUnknown's limit (0 = off); `semvox run` applies it after the room types.
+  double max_enclosed_unknown_m2 = 2.0;
   bool fill_clutter = true;          // Treat clutter cells as room space while segmenting (they never get
                                      // an id in room_ids, only in room_extent_ids).
 
@@ -85,6 +87,8 @@ struct RoomSegmentationOptions {
                      "morphological: pieces split by the erosion stay rooms when both cover this"),
         OptionNumber(&O::max_speck_distance_m, "max_speck_distance_m", 0, 10, "metres",
                      "unreached free cells join the nearest room within this"),
+        OptionNumber(&O::max_enclosed_unknown_m2, "max_enclosed_unknown_m2", 0, 1000, "m2",
+                     "unseen pockets enclosed by one room and walls up to this join the room's extent (0 = off)"),
     };
     return table;
   }
@@ -93,11 +97,22 @@ struct RoomSegmentationOptions {
 
 struct RoomSegmentation {
   ImageU16 room_ids;         // Room id per floor cell (free or door), 0 elsewhere; ids 1..num_rooms.
-  ImageU16 room_extent_ids;  // Same, plus the clutter cells inside each room (for polygons and areas).
+  ImageU16 room_extent_ids;  // Same, plus the clutter cells inside each room (for polygons and areas) and, after
+                             // JoinEnclosedUnknown, the unseen pockets it encloses.
   int num_rooms = 0;
   double seconds = 0;        // Wall time of SegmentRooms.
 };
 
 RoomSegmentation SegmentRooms(const FloorPlan& plan, const RoomSegmentationOptions& options);
+
+// Unseen pockets join the room around them: every 4-connected group of unknown cells of at most `max_area_m2`
+// whose 4-neighbours are walls and the extent of one room (the floor behind a sofa or a wardrobe, a corner no
+// view reached) gets that room's id in `extent_ids` and, when `pixel_types` (same size) is given, the type of
+// the room's cell beside it. A pocket touching the grid's border, a free, door or clutter cell of no room, or a
+// second room stays outside, and so does a larger one (an unseen alcove that may be a room of its own, a
+// courtyard seen through a window) and one with no cell whose four neighbours are all in it (a wall's unseen
+// inside, reached through a window or a gap in its face, one or two cells wide). Returns the cells joined; 0 when max_area_m2 <= 0. `semvox run` calls it
+// after the room types: a pocket holds no evidence, and its cells would change the room's shape features.
+size_t JoinEnclosedUnknown(const FloorPlan& plan, double max_area_m2, ImageU16* extent_ids, ImageU16* pixel_types = nullptr);
 
 }  // namespace semvox

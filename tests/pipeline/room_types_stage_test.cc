@@ -14,13 +14,21 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
-  // Two 2 m x 2 m rooms side by side (wall at x = 2 m with a door), 0.05 m cells.
+// Two 2 m x 2 m rooms side by side (wall at x = 2 m with a door), 0.05 m cells, each seen by four views whose
+// evidence says kitchen (room 1) and bedroom (room 2).
+struct TwoRoomsSeen {
   FloorPlan plan;
+  RoomSegmentation rooms;
+  std::vector<ViewRoomEvidence> views;
+};
+
+TwoRoomsSeen TwoRoomsSeenByViews() {
+  TwoRoomsSeen t;
+  FloorPlan& plan = t.plan;
+  RoomSegmentation& rooms = t.rooms;
   plan.resolution_m = 0.05;
   plan.cells = Image<uint8_t>(84, 44, 1, uint8_t(FloorCell::kWall));
   plan.ceiling_height_m = ImageF32(84, 44, 1, 2.5f);
-  RoomSegmentation rooms;
   rooms.room_ids = ImageU16(84, 44, 1, 0);
   for (int y = 2; y < 42; ++y)
     for (int x = 2; x < 82; ++x) {
@@ -39,7 +47,7 @@ TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
     p[size_t(index)] = 1 - 0.02 * (kRoomTypeLabels - 1);
     return p;
   };
-  std::vector<ViewRoomEvidence> views;
+  std::vector<ViewRoomEvidence>& views = t.views;
   for (int h = 0; h < 4; ++h) {
     ViewRoomEvidence a;
     a.position = {1.1, 1.1, 1.6}, a.yaw_rad = h * M_PI / 2, a.hfov_rad = 1.2, a.max_range_m = 5, a.p = peaked(5);  // Kitchen.
@@ -47,6 +55,14 @@ TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
     b.position = {3.1, 1.1, 1.6}, b.p = peaked(1);  // Bedroom.
     views.push_back(a), views.push_back(b);
   }
+  return t;
+}
+
+TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
+  const TwoRoomsSeen t = TwoRoomsSeenByViews();
+  const FloorPlan& plan = t.plan;
+  const RoomSegmentation& rooms = t.rooms;
+  const std::vector<ViewRoomEvidence>& views = t.views;
   const fs::path dir = fs::temp_directory_path() / "semvox_room_types_stage_test";
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -96,6 +112,43 @@ TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
   const Status bad = RunRoomTypeStage(plan, rooms, views, {}, options, dir.string(), nullptr);
   EXPECT_FALSE(bad.ok());
   EXPECT_NE(bad.message().find("missing.json"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// An unseen pocket in room 1's corner (0.3 m x 0.3 m, against two walls) joins room 1 after the CRF, with its
+// type; at a limit of 0 it stays outside.
+TEST(RoomTypesStage, UnseenPocketJoinsTheRoomAroundItWithItsType) {
+  TwoRoomsSeen t = TwoRoomsSeenByViews();
+  for (int y = 2; y < 8; ++y)
+    for (int x = 2; x < 8; ++x)
+      t.plan.cells.at(x, y) = uint8_t(FloorCell::kUnknown), t.rooms.room_ids.at(x, y) = t.rooms.room_extent_ids.at(x, y) = 0;
+  const fs::path dir = fs::temp_directory_path() / "semvox_room_types_pocket_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  RoomTypeModel model = RoomTypeModel::Uninformative();
+  RoomTypeCrfOptions options;
+  model.SetWeights(options.variant, RoomTypeWeights{5.0, {1, 1, 1, 1}, 1.0});
+  options.model_path = (dir / "model.json").string();
+  options.shape_weight = 0;
+  ASSERT_TRUE(SaveRoomTypeModel(model, options.model_path).ok());
+  Result<RoomTypesStageResult> joined = TypeRooms(t.plan, t.rooms, t.views, {}, options, 2.0);
+  Result<RoomTypesStageResult> kept = TypeRooms(t.plan, t.rooms, t.views, {}, options, 0.0);
+  ASSERT_TRUE(joined.ok() && kept.ok());
+  const int room = joined->result.rooms.room_extent_ids.at(20, 20);
+  ASSERT_GT(room, 0);
+  EXPECT_EQ(joined->result.pixel_types.at(20, 20), 6);  // Kitchen.
+  for (int y = 2; y < 8; ++y)
+    for (int x = 2; x < 8; ++x) {
+      EXPECT_EQ(joined->result.rooms.room_extent_ids.at(x, y), room) << x << ", " << y;
+      EXPECT_EQ(joined->result.pixel_types.at(x, y), 6) << x << ", " << y;
+      EXPECT_EQ(kept->result.rooms.room_extent_ids.at(x, y), 0) << x << ", " << y;
+    }
+  auto area = [room](const RoomTypesStageResult& r) {
+    for (const RoomDescription& d : r.described)
+      if (d.id == room) return d.area_m2;
+    return -1.0;
+  };
+  EXPECT_NEAR(area(*joined) - area(*kept), 36 * 0.05 * 0.05, 1e-9);
   fs::remove_all(dir);
 }
 

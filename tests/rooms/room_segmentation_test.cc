@@ -4,6 +4,7 @@
 
 #include <random>
 #include <set>
+#include <string>
 
 #include "rooms/room_score.h"
 #include "tests/rooms/rooms_test_util.h"
@@ -107,6 +108,52 @@ TEST(SegmentRooms, ClosetBehindADoorOpeningIsARoomThoughNarrow) {
   RoomSegmentationOptions old_rule = o;
   old_rule.door_min_room_radius_m = old_rule.min_room_radius_m;
   EXPECT_EQ(SegmentRooms(plan, old_rule).num_rooms, 1);
+}
+
+// Unseen pockets (unknown cells) that one room and walls enclose join that room's extent with its type; the
+// segmentation's floor ids stay as they were. A pocket between two rooms, one reaching the map's border, a
+// strip two cells wide, one larger than the limit and every pocket with the limit at 0 stay outside every room.
+TEST(JoinEnclosedUnknown, PocketEnclosedByOneRoomJoinsItWithItsType) {
+  FloorPlan plan = FloorPlanFromImage(TwoRoomsWithDoor().image, 0.05, FloorPlanOptions());
+  auto unknown = [&](int x0, int y0, int x1, int y1) {  // Pixels [x0, x1) x [y0, y1).
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) plan.cells.at(x, y) = uint8_t(FloorCell::kUnknown);
+  };
+  unknown(10, 10, 22, 18);    // A: 0.24 m2 (96 cells) in the first room's corner, against two walls.
+  unknown(86, 35, 94, 41);    // B: across the door, touching both rooms.
+  unknown(158, 10, 190, 42);  // D: 2.56 m2 (1024 cells) in the second room's corner.
+  unknown(0, 60, 31, 66);     // C: from the map's border through the wall into the first room.
+  unknown(120, 68, 150, 70);  // E: a strip two cells wide along the second room's wall, as a wall's inside.
+  ASSERT_DOUBLE_EQ(RoomSegmentationOptions().max_enclosed_unknown_m2, 2.0);
+  for (RoomSegmentationMethod m : kMethods) {
+    const std::string name = RoomSegmentationMethodName(m);
+    const RoomSegmentation rooms = SegmentRooms(plan, WithMethod(m));
+    ASSERT_EQ(rooms.num_rooms, 2) << name;
+    ExpectEveryFloorCellInOneRoom(plan, rooms);
+    const int first = rooms.room_ids.at(40, 40), second = rooms.room_ids.at(120, 50);
+    ASSERT_NE(first, second) << name;
+    EXPECT_EQ(rooms.room_extent_ids.at(15, 15), 0) << name << ": the segmentation leaves pockets out";
+    ImageU16 extent = rooms.room_extent_ids, types(plan.width(), plan.height(), 1, 0);
+    for (size_t i = 0; i < types.data.size(); ++i) types.data[i] = uint16_t(extent.data[i] ? 5 + extent.data[i] : 0);
+    EXPECT_EQ(JoinEnclosedUnknown(plan, 2.0, &extent, &types), 96u) << name;
+    for (int y = 10; y < 18; ++y)
+      for (int x = 10; x < 22; ++x) {
+        EXPECT_EQ(extent.at(x, y), first) << name << " A (" << x << ", " << y << ")";
+        EXPECT_EQ(types.at(x, y), 5 + first) << name << " A";
+      }
+    EXPECT_EQ(extent.at(90, 38), 0) << name << " B";
+    EXPECT_EQ(extent.at(170, 20), 0) << name << " D";
+    EXPECT_EQ(extent.at(20, 62), 0) << name << " C";
+    EXPECT_EQ(types.at(20, 62), 0) << name << " C";
+    EXPECT_EQ(extent.at(130, 69), 0) << name << " E";
+    ImageU16 larger = rooms.room_extent_ids;
+    EXPECT_EQ(JoinEnclosedUnknown(plan, 2.56, &larger), 96u + 1024u) << name;
+    EXPECT_EQ(larger.at(170, 20), second) << name << " D";
+    EXPECT_EQ(larger.at(90, 38), 0) << name << " B";
+    ImageU16 off = rooms.room_extent_ids;
+    EXPECT_EQ(JoinEnclosedUnknown(plan, 0, &off), 0u) << name;
+    EXPECT_EQ(off.data, rooms.room_extent_ids.data) << name;
+  }
 }
 
 // Property: on random furnished floor plans (rooms on a grid with random doors, random furniture and
