@@ -58,12 +58,11 @@ TwoRoomsSeen TwoRoomsSeenByViews() {
   return t;
 }
 
-TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
-  const TwoRoomsSeen t = TwoRoomsSeenByViews();
-  const FloorPlan& plan = t.plan;
-  const RoomSegmentation& rooms = t.rooms;
-  const std::vector<ViewRoomEvidence>& views = t.views;
-  const fs::path dir = fs::temp_directory_path() / "semvox_room_types_stage_test";
+// Options whose model (saved into a fresh `dir`) weighs the views' evidence by 5 on the identity confusion. The
+// views alone decide (the shape term has its own tests in rooms/room_shape_test.cc): at the default shape weight
+// (3) the real plans' shapes call a separate 4 m² kitchen a bedroom (R2V kitchens are mostly part of a living
+// room).
+RoomTypeCrfOptions ViewsDecide(const fs::path& dir) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   RoomTypeModel model = RoomTypeModel::Uninformative();
@@ -71,11 +70,18 @@ TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
   model.SetWeights(options.variant, RoomTypeWeights{5.0, {1, 1, 1, 1}, 1.0});
   options.model_path = (dir / "model.json").string();
   options.shape_model_path = std::string(SEMVOX_SOURCE_DIR) + "/models/room_shape.json";
-  // The views alone decide here (the shape term has its own tests in rooms/room_shape_test.cc): at the default
-  // shape weight (3) the real plans' shapes call a separate 4 m² kitchen a bedroom (R2V kitchens are mostly
-  // part of a living room).
   options.shape_weight = 0;
-  ASSERT_TRUE(SaveRoomTypeModel(model, options.model_path).ok());
+  EXPECT_TRUE(SaveRoomTypeModel(model, options.model_path).ok());
+  return options;
+}
+
+TEST(RoomTypesStage, WritesTypedRoomsForTwoRoomsSeenByViews) {
+  const TwoRoomsSeen t = TwoRoomsSeenByViews();
+  const FloorPlan& plan = t.plan;
+  const RoomSegmentation& rooms = t.rooms;
+  const std::vector<ViewRoomEvidence>& views = t.views;
+  const fs::path dir = fs::temp_directory_path() / "semvox_room_types_stage_test";
+  RoomTypeCrfOptions options = ViewsDecide(dir);
   nlohmann::ordered_json summary;
   const Status st = RunRoomTypeStage(plan, rooms, views, {}, options, dir.string(), &summary);
   ASSERT_TRUE(st.ok()) << st.message();
@@ -123,14 +129,7 @@ TEST(RoomTypesStage, UnseenPocketJoinsTheRoomAroundItWithItsType) {
     for (int x = 2; x < 8; ++x)
       t.plan.cells.at(x, y) = uint8_t(FloorCell::kUnknown), t.rooms.room_ids.at(x, y) = t.rooms.room_extent_ids.at(x, y) = 0;
   const fs::path dir = fs::temp_directory_path() / "semvox_room_types_pocket_test";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  RoomTypeModel model = RoomTypeModel::Uninformative();
-  RoomTypeCrfOptions options;
-  model.SetWeights(options.variant, RoomTypeWeights{5.0, {1, 1, 1, 1}, 1.0});
-  options.model_path = (dir / "model.json").string();
-  options.shape_weight = 0;
-  ASSERT_TRUE(SaveRoomTypeModel(model, options.model_path).ok());
+  const RoomTypeCrfOptions options = ViewsDecide(dir);
   Result<RoomTypesStageResult> joined = TypeRooms(t.plan, t.rooms, t.views, {}, options, 2.0);
   Result<RoomTypesStageResult> kept = TypeRooms(t.plan, t.rooms, t.views, {}, options, 0.0);
   ASSERT_TRUE(joined.ok() && kept.ok());
