@@ -49,8 +49,8 @@ Status WriteRoomTypeOutputs(const RoomTypesStageResult& typed, const FloorPlan& 
 // summary.json's rooms."room_types" object: method, model, rooms with their types and shapes, seconds.
 nlohmann::ordered_json RoomTypesSummaryJson(const RoomTypesStageResult& typed);
 
-// TypeRooms (pockets joined as RoomSegmentationOptions' default) and WriteRoomTypeOutputs in one; adds "room_types" to `summary` (optional), and `room_ids`
-// (optional) receives what rooms.png holds.
+// TypeRooms (pockets joined up to RoomSegmentationOptions' default) and WriteRoomTypeOutputs in one; adds
+// "room_types" to `summary` (optional), and `room_ids` (optional) receives what rooms.png holds.
 Status RunRoomTypeStage(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
                         const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options, const std::string& outdir,
                         nlohmann::ordered_json* summary, const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity(),

@@ -111,8 +111,9 @@ RoomSegmentation SegmentRooms(const FloorPlan& plan, const RoomSegmentationOptio
 // the room's cell beside it. A pocket touching the grid's border, a free, door or clutter cell of no room, or a
 // second room stays outside, and so does a larger one (an unseen alcove that may be a room of its own, a
 // courtyard seen through a window) and one with no cell whose four neighbours are all in it (a wall's unseen
-// inside, reached through a window or a gap in its face, one or two cells wide). Returns the cells joined; 0 when max_area_m2 <= 0. `semvox run` calls it
-// after the room types: a pocket holds no evidence, and its cells would change the room's shape features.
+// inside, reached through a window or a gap in its face, one or two cells wide). Returns the cells joined; 0
+// when max_area_m2 <= 0. `semvox run` calls it after the room types: a pocket holds no evidence, and its cells
+// would change the room's shape features.
 size_t JoinEnclosedUnknown(const FloorPlan& plan, double max_area_m2, ImageU16* extent_ids, ImageU16* pixel_types = nullptr);
 
 }  // namespace semvox
