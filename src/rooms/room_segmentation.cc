@@ -375,7 +375,7 @@ size_t JoinEnclosedUnknown(const FloorPlan& plan, double max_area_m2, ImageU16* 
   const bool typed = pixel_types && pixel_types->width == W && pixel_types->height == H;
   const double cell = plan.resolution_m * plan.resolution_m;
   const size_t max_cells = size_t(std::floor(max_area_m2 / cell + 1e-9));
-  std::vector<uint8_t> seen(size_t(W) * size_t(H), 0), in_pocket(size_t(W) * size_t(H), 0);
+  std::vector<uint8_t> seen(size_t(W) * size_t(H), 0);
   std::vector<int> pocket, stack;
   size_t joined = 0;
   for (int s = 0; s < W * H; ++s) {
@@ -383,7 +383,9 @@ size_t JoinEnclosedUnknown(const FloorPlan& plan, double max_area_m2, ImageU16* 
     pocket.clear();
     stack.assign(1, s);
     seen[size_t(s)] = 1;
-    bool enclosed = true;
+    // A wall's unseen inside, reached through a window or a gap in its face, is a strip one or two cells wide;
+    // a pocket of floor holds a cell whose four neighbours are all unknown, i.e. in the pocket.
+    bool enclosed = true, thick = false;
     int room = 0, room_cell = -1;
     while (!stack.empty()) {
       const int i = stack.back();
@@ -392,11 +394,13 @@ size_t JoinEnclosedUnknown(const FloorPlan& plan, double max_area_m2, ImageU16* 
       const int x = i % W, y = i / W;
       if (x == 0 || y == 0 || x == W - 1 || y == H - 1) enclosed = false;
       const int nbr[4][2] = {{x + 1, y}, {x - 1, y}, {x, y + 1}, {x, y - 1}};
+      int unknown_neighbours = 0;
       for (const auto& n : nbr) {
         if (n[0] < 0 || n[1] < 0 || n[0] >= W || n[1] >= H) continue;
         const int q = n[1] * W + n[0];
         const FloorCell c = FloorCell(plan.cells.data[size_t(q)]);
         if (c == FloorCell::kUnknown) {
+          ++unknown_neighbours;
           if (!seen[size_t(q)]) seen[size_t(q)] = 1, stack.push_back(q);
         } else if (c != FloorCell::kWall) {
           const int r = extent_ids->data[size_t(q)];
@@ -404,19 +408,9 @@ size_t JoinEnclosedUnknown(const FloorPlan& plan, double max_area_m2, ImageU16* 
           else if (room == 0) room = r, room_cell = q;
         }
       }
+      thick = thick || unknown_neighbours == 4;
     }
-    if (!enclosed || room == 0 || pocket.size() > max_cells) continue;
-    // A wall's unseen inside, reached through a window or a gap in its face, is a strip one or two cells wide;
-    // a pocket of floor holds a cell whose four neighbours are all in it.
-    for (int i : pocket) in_pocket[size_t(i)] = 1;
-    bool thick = false;
-    for (int i : pocket) {
-      const int x = i % W, y = i / W;
-      thick = thick || (x > 0 && y > 0 && x < W - 1 && y < H - 1 && in_pocket[size_t(i - 1)] && in_pocket[size_t(i + 1)] &&
-                        in_pocket[size_t(i - W)] && in_pocket[size_t(i + W)]);
-    }
-    for (int i : pocket) in_pocket[size_t(i)] = 0;
-    if (!thick) continue;
+    if (!enclosed || !thick || room == 0 || pocket.size() > max_cells) continue;
     for (int i : pocket) {
       extent_ids->data[size_t(i)] = uint16_t(room);
       if (typed) pixel_types->data[size_t(i)] = pixel_types->data[size_t(room_cell)];
