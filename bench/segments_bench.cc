@@ -11,7 +11,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <numeric>
 #include <string>
+#include <vector>
 
 #include "apps/commands.h"
 #include "pipeline/semantic_options.h"
@@ -250,7 +252,11 @@ int main(int argc, char** argv) {
       for (uint32_t v : s.voxels) label[v] = nyu40[size_t(best)], segment_of[v] = int(&s - seg.segments.data());
       const auto c = map->grid.Cell(s.voxels[s.voxels.size() / 2]);
       const Eigen::Vector3d x = map->grid.CellCenter(c[0], c[1], c[2]);
-      std::printf("%6zu voxels at (%.2f %.2f %.2f): %-16s %.2f |", s.voxels.size(), x.x(), x.y(), x.z(), level.class_names[size_t(best)].c_str(), p[size_t(best)]);
+      std::printf("%6zu voxels at (%.2f %.2f %.2f): %-16s %.2f", s.voxels.size(), x.x(), x.y(), x.z(), level.class_names[size_t(best)].c_str(), p[size_t(best)]);
+      std::vector<size_t> order(p.size());
+      std::iota(order.begin(), order.end(), size_t(0));
+      std::partial_sort(order.begin(), order.begin() + 3, order.end(), [&](size_t a, size_t b) { return p[a] > p[b]; });
+      std::printf(" (then %s %.2f, %s %.2f) |", level.class_names[order[1]].c_str(), p[order[1]], level.class_names[order[2]].c_str(), p[order[2]]);
       for (int f = 0; f < kNumSegmentFeatures; ++f) std::printf(" %s %.2f", SegmentFeatureName(f), s.features[size_t(f)]);
       std::printf("\n");
     }

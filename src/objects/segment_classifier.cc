@@ -1,6 +1,7 @@
 #include "objects/segment_classifier.h"
 
 #include <filesystem>
+#include <limits>
 
 #include "objects/random_forest.h"
 #include "perception/knn_unary.h"
@@ -20,8 +21,15 @@ bool ParseSegmentClassifierKind(const std::string& name, SegmentClassifierKind* 
 
 std::string SegmentClassifierFile(SegmentClassifierKind kind) { return std::string("object_segments.") + SegmentClassifierKindName(kind); }
 
-SegmentClassifier::SegmentClassifier(KnnClassifier knn) : knn_(std::make_unique<KnnClassifier>(std::move(knn))) {}
-SegmentClassifier::SegmentClassifier(RandomForest forest) : forest_(std::make_unique<RandomForest>(std::move(forest))) {}
+namespace {
+constexpr double kFamiliarQuantile = 0.99;  // Of the training segments' own neighbour distances.
+}  // namespace
+
+SegmentClassifier::SegmentClassifier(KnnClassifier knn)
+    : knn_(std::make_unique<KnnClassifier>(std::move(knn))),
+      familiar_distance_(knn_->TrainingNeighbourDistanceQuantile(kFamiliarQuantile)) {}
+SegmentClassifier::SegmentClassifier(RandomForest forest)
+    : forest_(std::make_unique<RandomForest>(std::move(forest))), familiar_distance_(std::numeric_limits<double>::quiet_NaN()) {}
 SegmentClassifier::SegmentClassifier(SegmentClassifier&&) noexcept = default;
 SegmentClassifier& SegmentClassifier::operator=(SegmentClassifier&&) noexcept = default;
 SegmentClassifier::~SegmentClassifier() = default;
@@ -32,6 +40,11 @@ int SegmentClassifier::num_classes() const { return forest_ ? forest_->num_class
 
 std::vector<double> SegmentClassifier::Probabilities(std::span<const float> features) const {
   return forest_ ? forest_->Probabilities(features) : knn_->Probabilities(features);
+}
+
+double SegmentClassifier::Unfamiliarity(std::span<const float> features) const {
+  if (!knn_ || !(familiar_distance_ > 0)) return std::numeric_limits<double>::quiet_NaN();
+  return knn_->NeighbourDistance(features) / familiar_distance_;
 }
 
 Status SegmentClassifier::SaveToDirectory(const std::string& dir) const {

@@ -40,6 +40,13 @@ class SegmentClassifier {
   int dims() const;
   int num_classes() const;
   std::vector<double> Probabilities(std::span<const float> features) const;
+  // How unlike every training segment a segment is (k-NN only): its mean distance to the k nearest training
+  // segments (standardised features) over the 0.99-quantile of the training segments' own distances to their
+  // k nearest others. Above 1 it is farther from the training shapes than 99 % of the training segments are
+  // from the rest, and its class is a guess. NaN for the forest, which keeps no training rows.
+  double Unfamiliarity(std::span<const float> features) const;
+  // The denominator above (0.99-quantile of the training segments' neighbour distances); NaN for the forest.
+  double familiar_distance() const { return familiar_distance_; }
 
   // Writes DIR/SegmentClassifierFile(kind()) atomically and removes the other kind's file from DIR, so that
   // the directory holds the model just trained and nothing that would be loaded instead.
@@ -51,6 +58,7 @@ class SegmentClassifier {
  private:
   std::unique_ptr<KnnClassifier> knn_;
   std::unique_ptr<RandomForest> forest_;
+  double familiar_distance_;
 };
 
 }  // namespace semvox

@@ -93,6 +93,15 @@ struct KnnClassifier::Impl {
     points.dims = size_t(dims);
     tree = std::make_unique<KdTree>(dims, points, nanoflann::KDTreeSingleIndexAdaptorParams(size_t(options.leaf_max_size)));
   }
+  // The k nearest training rows of `z` (raw features: standardised here): their indices and squared distances
+  // (nanoflann's L2 adaptor), nearest first; returns how many were found.
+  size_t Nearest(std::span<const float> z, size_t k, std::vector<uint32_t>* idx, std::vector<float>* dist) const {
+    std::vector<float> q(static_cast<size_t>(dims));
+    for (int d = 0; d < dims; ++d) q[size_t(d)] = (z[size_t(d)] - mean[size_t(d)]) * inv_std[size_t(d)];
+    idx->resize(k);
+    dist->resize(k);
+    return tree->knnSearch(q.data(), k, idx->data(), dist->data());
+  }
 };
 
 KnnClassifier::KnnClassifier(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -163,12 +172,9 @@ std::vector<int> KnnClassifier::NeighbourCounts(std::span<const float> z) const 
   const Impl& m = *impl_;
   std::vector<int> counts(size_t(m.num_classes), 0);
   if (z.size() != size_t(m.dims)) return counts;
-  std::vector<float> q(size_t(m.dims));
-  for (int d = 0; d < m.dims; ++d) q[size_t(d)] = (z[size_t(d)] - m.mean[size_t(d)]) * m.inv_std[size_t(d)];
-  const size_t k = std::min(size_t(m.options.k), m.labels.size());
-  std::vector<uint32_t> idx(k);
-  std::vector<float> dist(k);
-  const size_t found = m.tree->knnSearch(q.data(), k, idx.data(), dist.data());
+  std::vector<uint32_t> idx;
+  std::vector<float> dist;
+  const size_t found = m.Nearest(z, std::min(size_t(m.options.k), m.labels.size()), &idx, &dist);
   for (size_t i = 0; i < found; ++i) ++counts[size_t(m.labels[idx[i]])];
   return counts;
 }
@@ -182,6 +188,46 @@ std::vector<double> KnnClassifier::Probabilities(std::span<const float> z) const
     for (double& v : p) v /= sum;
   }
   return p;
+}
+
+double KnnClassifier::NeighbourDistance(std::span<const float> z) const {
+  const Impl& m = *impl_;
+  if (z.size() != size_t(m.dims)) return std::numeric_limits<double>::quiet_NaN();
+  std::vector<uint32_t> idx;
+  std::vector<float> dist;
+  const size_t found = m.Nearest(z, std::min(size_t(m.options.k), m.labels.size()), &idx, &dist);
+  double sum = 0;
+  for (size_t i = 0; i < found; ++i) sum += std::sqrt(double(dist[i]));
+  return found ? sum / double(found) : 0.0;
+}
+
+double KnnClassifier::TrainingNeighbourDistanceQuantile(double q) const {
+  const Impl& m = *impl_;
+  const size_t n = m.labels.size();
+  if (n < 2) return 0.0;
+  const size_t k = std::min(size_t(m.options.k), n - 1);
+  std::vector<double> own(n);
+  std::vector<uint32_t> idx(k + 1);
+  std::vector<float> dist(k + 1);
+  for (size_t r = 0; r < n; ++r) {
+    const size_t found = m.tree->knnSearch(&m.features[r * size_t(m.dims)], k + 1, idx.data(), dist.data());
+    // Leave the observation itself out (or, among exact duplicates, one of them); the rest are its neighbours.
+    size_t self = found;
+    for (size_t i = 0; i < found; ++i)
+      if (idx[i] == r) self = i;
+    if (self == found) self = 0;
+    double sum = 0;
+    size_t used = 0;
+    for (size_t i = 0; i < found && used < k; ++i)
+      if (i != self) sum += std::sqrt(double(dist[i])), ++used;
+    own[r] = used ? sum / double(used) : 0.0;
+  }
+  const double t = std::clamp(q, 0.0, 1.0) * double(n - 1);
+  const size_t lo = size_t(std::floor(t)), hi = std::min(lo + 1, n - 1);
+  std::nth_element(own.begin(), own.begin() + std::ptrdiff_t(lo), own.end());
+  const double a = own[lo];
+  const double b = hi == lo ? a : *std::min_element(own.begin() + std::ptrdiff_t(lo) + 1, own.end());
+  return a + (t - double(lo)) * (b - a);
 }
 
 Status KnnClassifier::Save(const std::string& path) const {

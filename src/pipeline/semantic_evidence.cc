@@ -277,9 +277,20 @@ SemanticEvidence SemanticEvidenceBuilder::Finish() && {
   const int K = s.models->level.num_classes();
   s.out.voxels.segment.assign(s.out.nodes.size() * size_t(K), 0.f);
   std::vector<std::vector<double>> p(seg.segments.size());
+  std::vector<double> unfamiliarity(seg.segments.size());
   tbb::parallel_for(size_t(0), seg.segments.size(), [&](size_t i) {
-    p[i] = s.models->segments->Probabilities({seg.segments[i].features.data(), seg.segments[i].features.size()});
+    const std::span<const float> f(seg.segments[i].features.data(), seg.segments[i].features.size());
+    p[i] = s.models->segments->Probabilities(f);
+    unfamiliarity[i] = s.models->segments->Unfamiliarity(f);
   });
+  s.out.familiar_distance = s.models->segments->familiar_distance();
+  const bool knows_familiarity = std::isfinite(s.out.familiar_distance);
+  if (knows_familiarity) s.out.unfamiliar_segment_voxels = 0, s.out.unfamiliar_segments = 0;
+  for (size_t i = 0; i < seg.segments.size(); ++i) {
+    s.out.segment_voxels += int64_t(seg.segments[i].voxels.size());
+    if (knows_familiarity && unfamiliarity[i] > 1.0)
+      s.out.unfamiliar_segment_voxels += int64_t(seg.segments[i].voxels.size()), ++s.out.unfamiliar_segments;
+  }
   for (size_t i = 0; i < seg.segments.size(); ++i)
     for (uint32_t v : seg.segments[i].voxels) {
       const int32_t node = s.out.nodes.node_of_voxel[v];
@@ -289,6 +300,16 @@ SemanticEvidence SemanticEvidenceBuilder::Finish() && {
   s.out.num_segments = int(seg.segments.size());
   s.out.seconds_segments = Seconds(t0);
   SEMVOX_INFO("object segments: " << s.out.num_segments << " classified by shape in " << s.out.seconds_segments << " s");
+  // A scan whose objects are shaped unlike the training scenes' gets labels the segment term cannot vouch for:
+  // say so (docs/objects.md, "Unfamiliar segments"). Generated scans stay under 5 % (the warning's share is 30 %).
+  constexpr double kWarnUnfamiliarShare = 0.3;
+  if (knows_familiarity && s.out.segment_voxels > 0 &&
+      double(s.out.unfamiliar_segment_voxels) > kWarnUnfamiliarShare * double(s.out.segment_voxels)) {
+    const int percent = int(std::lround(100.0 * double(s.out.unfamiliar_segment_voxels) / double(s.out.segment_voxels)));
+    SEMVOX_WARN("object segments: " << percent << " % of their voxels (" << s.out.unfamiliar_segments << " of " << s.out.num_segments
+                                    << " segments) are shaped unlike every training segment, so their classes are guesses "
+                                       "(summary.json semantic.object_segment_shapes; docs/objects.md, \"Unfamiliar segments\")");
+  }
   return std::move(s.out);
 }
 

@@ -60,6 +60,11 @@ struct SemanticEvidence {
   int classification_views = 0, skipped_views = 0;
   int hooked_views = 0;                                // Classified views the view hook saw.
   int num_segments = -1;                               // Object segments classified; -1 without a segment model.
+  // Their voxels, and those of the segments shaped unlike every training segment (SegmentClassifier::
+  // Unfamiliarity above 1; the k-NN only, else -1), and that many segments.
+  int64_t segment_voxels = 0, unfamiliar_segment_voxels = -1;
+  int unfamiliar_segments = -1;
+  double familiar_distance = 0;                        // SegmentClassifier::familiar_distance (NaN: forest).
   double seconds_depth = 0, seconds_selection = 0, seconds_classify = 0, seconds_segments = 0;
 };
 

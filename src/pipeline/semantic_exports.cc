@@ -80,6 +80,14 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
                                       {"max_flow", it.seconds_max_flow}, {"visibility", it.seconds_visibility}}}});
   j["iterations"] = its;
   j["object_segments"] = evidence.num_segments >= 0 ? nlohmann::ordered_json(evidence.num_segments) : nlohmann::ordered_json("no model");
+  if (evidence.num_segments >= 0 && evidence.unfamiliar_segment_voxels >= 0) {
+    const double share = evidence.segment_voxels > 0 ? double(evidence.unfamiliar_segment_voxels) / double(evidence.segment_voxels) : 0.0;
+    j["object_segment_shapes"] = {{"segment_voxels", evidence.segment_voxels},
+                                  {"unfamiliar_voxels", evidence.unfamiliar_segment_voxels},
+                                  {"unfamiliar_share", share},
+                                  {"unfamiliar_segments", evidence.unfamiliar_segments},
+                                  {"familiar_distance", evidence.familiar_distance}};
+  }
   j["occupied_voxels"] = labels.map.occupied.size();
   j["completed_voxels"] = labels.map.completed_count();
   nlohmann::ordered_json hist = nlohmann::ordered_json::object();

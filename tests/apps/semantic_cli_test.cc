@@ -84,6 +84,14 @@ TEST(SemanticCli, GeneratedApartmentIsLabelledAboveTheStatedFloors) {
   const nlohmann::json s = nlohmann::json::parse(sj);
   ASSERT_TRUE(s.contains("semantic"));
   EXPECT_GE(s["semantic"]["iterations"].size(), 1u);
+  // A generated apartment's object segments are shaped like the training segments (the ScanNet studio's are
+  // not: tests/apps/real_scan_test.cc), and no warning says otherwise.
+  const nlohmann::json& shapes = s["semantic"]["object_segment_shapes"];
+  std::printf("object segment voxels unlike every training segment: %.3f of %d\n", shapes["unfamiliar_share"].get<double>(),
+              shapes["segment_voxels"].get<int>());
+  EXPECT_GT(shapes["segment_voxels"].get<int>(), 1000);
+  EXPECT_LT(shapes["unfamiliar_share"].get<double>(), 0.15);
+  for (const auto& w : s["warnings"]) EXPECT_EQ(w.get<std::string>().find("unlike every training segment"), std::string::npos) << w;
 }
 
 // semantic.view_selection: all_objects_on_cover classifies every view, as `all` does, so the labels and rooms

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "objects/random_forest.h"
@@ -42,6 +43,23 @@ TEST(SegmentClassifier, BothKindsClassifyAndSaveUnderTheirOwnName) {
   EXPECT_TRUE(ParseSegmentClassifierKind("forest", &kind));
   EXPECT_EQ(kind, SegmentClassifierKind::kForest);
   EXPECT_FALSE(ParseSegmentClassifierKind("svm", &kind));
+}
+
+// Unfamiliarity: a segment among the training ones is familiar (under 1), one far from all of them is not;
+// the forest keeps no rows and cannot tell (NaN). The k-NN loaded from disk tells the same.
+TEST(SegmentClassifier, UnfamiliarityIsAboveOneFarFromEveryTrainingSegment) {
+  const SegmentClassifier knn = Knn();
+  EXPECT_GT(knn.familiar_distance(), 0.0);
+  const float among = 0.25f, far = 5.0f;
+  EXPECT_LT(knn.Unfamiliarity({&among, 1}), 1.0);
+  EXPECT_GT(knn.Unfamiliarity({&far, 1}), 10.0);
+  EXPECT_TRUE(std::isnan(Forest().Unfamiliarity({&far, 1})));
+  EXPECT_TRUE(std::isnan(Forest().familiar_distance()));
+  testing::ScratchDir dir("segment_unfamiliarity");
+  ASSERT_TRUE(knn.SaveToDirectory(dir.File("")).ok());
+  Result<std::optional<SegmentClassifier>> loaded = SegmentClassifier::LoadFromDirectory(dir.File(""));
+  ASSERT_TRUE(loaded.ok() && loaded->has_value());
+  EXPECT_DOUBLE_EQ((*loaded)->Unfamiliarity({&far, 1}), knn.Unfamiliarity({&far, 1}));
 }
 
 TEST(SegmentClassifier, ADirectoryHoldsOnlyTheModelLastSavedAndLoadsIt) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <numeric>
 
@@ -87,6 +88,40 @@ TEST(KnnClassifier, SaveLoadRoundTripGivesTheSameProbabilities) {
   for (float z : {-3.0f, 0.0f, 4.5f, 1000.0f, 1015.0f, 2000.0f})
     EXPECT_EQ(knn.Probabilities({&z, 1}), loaded->Probabilities({&z, 1})) << z;
   std::remove(path.c_str());
+}
+
+// Ten points 0..9 on a line, raw coordinates, k = 2: a point's two nearest others are 1 and 1 away (1 and 2 at
+// the ends: 1.5). The leave-one-out distances are eight 1s and two 1.5s.
+TEST(KnnClassifier, NeighbourDistanceAndTheTrainingQuantileLeaveEachObservationOut) {
+  std::vector<float> x;
+  std::vector<int> labels;
+  for (int i = 0; i < 10; ++i) x.push_back(float(i)), labels.push_back(i % 2);
+  KnnOptions options;
+  options.k = 2;
+  options.standardise = false;
+  const KnnClassifier knn = KnnClassifier::Train(x, 1, labels, 2, options).value();
+  const float far = 20.0f, mid = 4.5f, on = 3.0f;
+  EXPECT_NEAR(knn.NeighbourDistance({&far, 1}), (11.0 + 12.0) / 2, 1e-6);
+  EXPECT_NEAR(knn.NeighbourDistance({&mid, 1}), 0.5, 1e-6);
+  EXPECT_NEAR(knn.NeighbourDistance({&on, 1}), 0.5, 1e-6);  // A training point counts itself: 0 and 1.
+  EXPECT_NEAR(knn.TrainingNeighbourDistanceQuantile(0.5), 1.0, 1e-9);
+  EXPECT_NEAR(knn.TrainingNeighbourDistanceQuantile(1.0), 1.5, 1e-9);
+  EXPECT_NEAR(knn.TrainingNeighbourDistanceQuantile(7.65 / 9), 1.0 + 0.65 * 0.5, 1e-9);  // Between the 8th and 9th.
+  EXPECT_NEAR(knn.TrainingNeighbourDistanceQuantile(0.0), 1.0, 1e-9);
+  // Exact duplicates: only the observation itself is left out, its twin is a neighbour at 0.
+  const KnnClassifier twins = KnnClassifier::Train({0.f, 0.f, 5.f}, 1, {0, 0, 1}, 2, [] {
+    KnnOptions o;
+    o.k = 1;
+    o.standardise = false;
+    return o;
+  }()).value();
+  EXPECT_NEAR(twins.TrainingNeighbourDistanceQuantile(0.0), 0.0, 1e-9);
+  EXPECT_NEAR(twins.TrainingNeighbourDistanceQuantile(1.0), 5.0, 1e-9);
+  // Standardised: distances are in standard deviations of the training set (of 0..9: sqrt(8.25)), so a query 11
+  // and 12 units from its two neighbours lies 11.5 / sqrt(8.25) from them on average.
+  options.standardise = true;
+  const KnnClassifier standardised = KnnClassifier::Train(x, 1, labels, 2, options).value();
+  EXPECT_NEAR(standardised.NeighbourDistance({&far, 1}), 11.5 / std::sqrt(8.25), 1e-5);
 }
 
 TEST(KnnClassifier, RejectsBadInputWithFieldNames) {
