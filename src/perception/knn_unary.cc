@@ -168,19 +168,42 @@ Result<KnnClassifier> KnnClassifier::Train(std::vector<float> features, int dims
   return KnnClassifier(std::move(impl));
 }
 
+namespace {
+
+// Mean of the square roots of nanoflann's squared distances; 0 without any.
+double MeanDistance(const std::vector<float>& squared, size_t count) {
+  double sum = 0;
+  for (size_t i = 0; i < count; ++i) sum += std::sqrt(double(squared[i]));
+  return count ? sum / double(count) : 0.0;
+}
+
+}  // namespace
+
 std::vector<int> KnnClassifier::NeighbourCounts(std::span<const float> z) const {
+  double unused = 0;
+  return NeighbourCountsAndDistance(z, &unused);
+}
+
+std::vector<int> KnnClassifier::NeighbourCountsAndDistance(std::span<const float> z, double* distance) const {
   const Impl& m = *impl_;
   std::vector<int> counts(size_t(m.num_classes), 0);
+  *distance = std::numeric_limits<double>::quiet_NaN();
   if (z.size() != size_t(m.dims)) return counts;
   std::vector<uint32_t> idx;
   std::vector<float> dist;
   const size_t found = m.Nearest(z, std::min(size_t(m.options.k), m.labels.size()), &idx, &dist);
   for (size_t i = 0; i < found; ++i) ++counts[size_t(m.labels[idx[i]])];
+  *distance = MeanDistance(dist, found);
   return counts;
 }
 
 std::vector<double> KnnClassifier::Probabilities(std::span<const float> z) const {
-  std::vector<double> p = ClassFrequencyNormalisedProbability(NeighbourCounts(z), impl_->class_counts);
+  double unused = 0;
+  return Probabilities(z, &unused);
+}
+
+std::vector<double> KnnClassifier::Probabilities(std::span<const float> z, double* neighbour_distance) const {
+  std::vector<double> p = ClassFrequencyNormalisedProbability(NeighbourCountsAndDistance(z, neighbour_distance), impl_->class_counts);
   const double floor = impl_->options.probability_floor;
   if (floor > 0) {
     double sum = 0;
@@ -191,25 +214,22 @@ std::vector<double> KnnClassifier::Probabilities(std::span<const float> z) const
 }
 
 double KnnClassifier::NeighbourDistance(std::span<const float> z) const {
-  const Impl& m = *impl_;
-  if (z.size() != size_t(m.dims)) return std::numeric_limits<double>::quiet_NaN();
-  std::vector<uint32_t> idx;
-  std::vector<float> dist;
-  const size_t found = m.Nearest(z, std::min(size_t(m.options.k), m.labels.size()), &idx, &dist);
-  double sum = 0;
-  for (size_t i = 0; i < found; ++i) sum += std::sqrt(double(dist[i]));
-  return found ? sum / double(found) : 0.0;
+  double distance = 0;
+  NeighbourCountsAndDistance(z, &distance);
+  return distance;
 }
 
-double KnnClassifier::TrainingNeighbourDistanceQuantile(double q) const {
+double KnnClassifier::TrainingNeighbourDistanceQuantile(double q, size_t max_rows) const {
   const Impl& m = *impl_;
-  const size_t n = m.labels.size();
-  if (n < 2) return 0.0;
-  const size_t k = std::min(size_t(m.options.k), n - 1);
+  const size_t rows = m.labels.size();
+  if (rows < 2) return 0.0;
+  const size_t k = std::min(size_t(m.options.k), rows - 1);
+  const size_t n = max_rows > 0 ? std::min(rows, max_rows) : rows;
   std::vector<double> own(n);
   std::vector<uint32_t> idx(k + 1);
   std::vector<float> dist(k + 1);
-  for (size_t r = 0; r < n; ++r) {
+  for (size_t j = 0; j < n; ++j) {
+    const size_t r = j * rows / n;  // An even stride over the rows (all of them when n = rows).
     const size_t found = m.tree->knnSearch(&m.features[r * size_t(m.dims)], k + 1, idx.data(), dist.data());
     // Leave the observation itself out (or, among exact duplicates, one of them); the rest are its neighbours.
     size_t self = found;
@@ -220,7 +240,7 @@ double KnnClassifier::TrainingNeighbourDistanceQuantile(double q) const {
     size_t used = 0;
     for (size_t i = 0; i < found && used < k; ++i)
       if (i != self) sum += std::sqrt(double(dist[i])), ++used;
-    own[r] = used ? sum / double(used) : 0.0;
+    own[j] = used ? sum / double(used) : 0.0;
   }
   const double t = std::clamp(q, 0.0, 1.0) * double(n - 1);
   const size_t lo = size_t(std::floor(t)), hi = std::min(lo + 1, n - 1);

@@ -63,14 +63,17 @@ class KnnClassifier {
   std::vector<int> NeighbourCounts(std::span<const float> z) const;
   // Eq. 4 on NeighbourCounts, then the probability floor.
   std::vector<double> Probabilities(std::span<const float> z) const;
+  // The same, and NeighbourDistance (below) from the same search.
+  std::vector<double> Probabilities(std::span<const float> z, double* neighbour_distance) const;
   // Mean Euclidean distance from `z` to its k nearest training observations, in the space they are found in
   // (standardised when options().standardise): how far the query lies from everything the model saw.
   double NeighbourDistance(std::span<const float> z) const;
   // The q-quantile (q in [0, 1]) of the training observations' own neighbour distances, each to its k nearest
   // other observations (leave one out). A query farther than the 0.99-quantile is farther from the training set
   // than 99 % of the training observations are from the rest. 0 with fewer than two observations. Costs one
-  // search per observation: meant for small models (the object segments' 4,000 rows), not per-view ones.
-  double TrainingNeighbourDistanceQuantile(double q) const;
+  // search per observation; `max_rows` > 0 takes the quantile over that many observations at an even stride
+  // (each still measured against all the others), for large models (the per-view ones' 20,000 rows).
+  double TrainingNeighbourDistanceQuantile(double q, size_t max_rows = 0) const;
 
   // Binary model file (features, labels, options); the kd-tree is rebuilt on load.
   Status Save(const std::string& path) const;
@@ -79,6 +82,8 @@ class KnnClassifier {
  private:
   struct Impl;
   explicit KnnClassifier(std::unique_ptr<Impl> impl);
+  // NeighbourCounts and NeighbourDistance from one search (NaN distance for a query of the wrong size).
+  std::vector<int> NeighbourCountsAndDistance(std::span<const float> z, double* distance) const;
   std::unique_ptr<Impl> impl_;
 };
 

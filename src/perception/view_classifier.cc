@@ -80,15 +80,34 @@ Result<ViewClassifier> ViewClassifier::Train(const TrainingSet& set, int num_cla
   return ViewClassifier(std::move(image).value(), std::move(full).value(), options);
 }
 
+namespace {
+constexpr size_t kFamiliarRows = 2000;  // Training observations the familiar distance is measured over.
+}  // namespace
+
+ViewClassifier::ViewClassifier(KnnClassifier image_knn, KnnClassifier full_knn, ViewClassifierOptions options)
+    : image_knn_(std::move(image_knn)), full_knn_(std::move(full_knn)), options_(std::move(options)) {
+  image_familiar_ = image_knn_.TrainingNeighbourDistanceQuantile(kFamiliarQuantile, kFamiliarRows);
+  full_familiar_ = full_knn_.TrainingNeighbourDistanceQuantile(kFamiliarQuantile, kFamiliarRows);
+}
+
 void ViewClassifier::KnnUnaries(const ViewObservations& observations, std::vector<std::vector<double>>* f1,
-                                std::vector<std::vector<double>>* f2) const {
+                                std::vector<std::vector<double>>* f2, std::vector<float>* unfamiliarity) const {
   const size_t n = observations.superpixels.size();
   f1->assign(n, {});
   f2->assign(n, {});
+  if (unfamiliarity) unfamiliarity->assign(n, 0.f);
   for (size_t s = 0; s < n; ++s) {
     const SuperpixelObservation& o = observations.superpixels[s];
-    if (o.has_depth) (*f2)[s] = full_knn_.Probabilities({o.z.data(), size_t(kObservationDims)});
-    else (*f1)[s] = (*f2)[s] = image_knn_.Probabilities({o.z.data(), size_t(kImageObservationDims)});
+    double distance = 0;
+    double familiar = 0;
+    if (o.has_depth) {
+      (*f2)[s] = full_knn_.Probabilities({o.z.data(), size_t(kObservationDims)}, &distance);
+      familiar = full_familiar_;
+    } else {
+      (*f1)[s] = (*f2)[s] = image_knn_.Probabilities({o.z.data(), size_t(kImageObservationDims)}, &distance);
+      familiar = image_familiar_;
+    }
+    if (unfamiliarity) (*unfamiliarity)[s] = familiar > 0 ? float(distance / familiar) : std::numeric_limits<float>::quiet_NaN();
   }
 }
 
@@ -108,7 +127,7 @@ Result<ViewClassification> ViewClassifier::Classify(Superpixels superpixels, Vie
   out.observations = std::move(observations);
   const size_t n = out.observations.superpixels.size();
   std::vector<std::vector<double>> f1, f2;
-  KnnUnaries(out.observations, &f1, &f2);
+  KnnUnaries(out.observations, &f1, &f2, &out.unfamiliarity);
   out.knn = f2;  // f2 with depth, f1 without.
   out.knn_labels.resize(n);
   for (size_t s = 0; s < n; ++s)

@@ -65,6 +65,10 @@ struct ViewClassification {
   ViewObservations observations;
   std::vector<std::vector<double>> knn;  // Per superpixel: f2's P_s with depth, f1's without.
   std::vector<int> knn_labels;           // Argmax of knn.
+  // Per superpixel: how unlike every training superpixel it is, the mean distance to its k nearest training
+  // observations of the k-NN that gave its unary over that k-NN's ViewClassifier::kFamiliarQuantile of the
+  // training observations' own (KnnClassifier::TrainingNeighbourDistanceQuantile). Above 1: its class is a guess.
+  std::vector<float> unfamiliarity;
   Marginals tree_marginals;              // Tree CRF (exact sum-product).
   std::vector<int> tree_labels;          // Tree CRF MAP (exact max-product).
   Marginals union_marginals;             // Union-coverage CRF (loopy BP).
@@ -90,6 +94,11 @@ class ViewClassifier {
   }
 
   int num_classes() const { return image_knn_.num_classes(); }
+  // The quantile of the training observations' own neighbour distances that ViewClassification::unfamiliarity
+  // divides by, and the denominators (image-only and full k-NN; over 2,000 observations of each).
+  static constexpr double kFamiliarQuantile = 0.99;
+  double image_familiar_distance() const { return image_familiar_; }
+  double full_familiar_distance() const { return full_familiar_; }
   const ViewClassifierOptions& options() const { return options_; }
   // PREFIX.image_knn.bin, PREFIX.full_knn.bin and PREFIX.crf_weights.txt (tree w_u w_c; union w_u w_c
   // w_d). Load keeps `options`' weights when the weights file is absent.
@@ -97,14 +106,15 @@ class ViewClassifier {
   static Result<ViewClassifier> Load(const std::string& prefix, const ViewClassifierOptions& options);
 
  private:
-  ViewClassifier(KnnClassifier image_knn, KnnClassifier full_knn, ViewClassifierOptions options)
-      : image_knn_(std::move(image_knn)), full_knn_(std::move(full_knn)), options_(std::move(options)) {}
+  ViewClassifier(KnnClassifier image_knn, KnnClassifier full_knn, ViewClassifierOptions options);
   // The k-NN unaries of every superpixel: f2 from the image + 3D features where it has depth, else f2 = f1 from
   // the image features alone; f1 is left empty where there is depth (the CRFs read it only where there is none).
+  // `unfamiliarity` (when given): ViewClassification::unfamiliarity.
   void KnnUnaries(const ViewObservations& observations, std::vector<std::vector<double>>* f1,
-                  std::vector<std::vector<double>>* f2) const;
+                  std::vector<std::vector<double>>* f2, std::vector<float>* unfamiliarity = nullptr) const;
   KnnClassifier image_knn_, full_knn_;
   ViewClassifierOptions options_;
+  double image_familiar_ = 0, full_familiar_ = 0;
 };
 
 // Pixel-wise confusion counts: recall per class, average (mean recall) and global accuracy.

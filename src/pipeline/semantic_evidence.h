@@ -65,6 +65,9 @@ struct SemanticEvidence {
   int64_t segment_voxels = 0, unfamiliar_segment_voxels = -1;
   int unfamiliar_segments = -1;
   double familiar_distance = 0;                        // SegmentClassifier::familiar_distance (NaN: forest).
+  // Pixels of the views the built-in per-view classifier labelled, and those of superpixels unlike every
+  // training superpixel (ViewClassification::unfamiliarity above 1); both 0 with an ONNX object model.
+  int64_t view_pixels = 0, unfamiliar_view_pixels = 0;
   double seconds_depth = 0, seconds_selection = 0, seconds_classify = 0, seconds_segments = 0;
 };
 

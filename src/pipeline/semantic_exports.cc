@@ -79,6 +79,10 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
                    {"phase_seconds", {{"build", it.seconds_build}, {"energy", it.seconds_energy}, {"alpha_expansion", it.seconds_expansion},
                                       {"max_flow", it.seconds_max_flow}, {"visibility", it.seconds_visibility}}}});
   j["iterations"] = its;
+  if (evidence.view_pixels > 0)
+    j["view_appearance"] = {{"classified_pixels", evidence.view_pixels},
+                            {"unfamiliar_pixels", evidence.unfamiliar_view_pixels},
+                            {"unfamiliar_share", double(evidence.unfamiliar_view_pixels) / double(evidence.view_pixels)}};
   j["object_segments"] = evidence.num_segments >= 0 ? nlohmann::ordered_json(evidence.num_segments) : nlohmann::ordered_json("no model");
   if (evidence.num_segments >= 0 && evidence.unfamiliar_segment_voxels >= 0) {
     const double share = evidence.segment_voxels > 0 ? double(evidence.unfamiliar_segment_voxels) / double(evidence.segment_voxels) : 0.0;

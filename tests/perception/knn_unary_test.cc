@@ -108,6 +108,13 @@ TEST(KnnClassifier, NeighbourDistanceAndTheTrainingQuantileLeaveEachObservationO
   EXPECT_NEAR(knn.TrainingNeighbourDistanceQuantile(1.0), 1.5, 1e-9);
   EXPECT_NEAR(knn.TrainingNeighbourDistanceQuantile(7.65 / 9), 1.0 + 0.65 * 0.5, 1e-9);  // Between the 8th and 9th.
   EXPECT_NEAR(knn.TrainingNeighbourDistanceQuantile(0.0), 1.0, 1e-9);
+  // Over 5 of the 10 observations at an even stride (0, 2, 4, 6, 8), each still against all the others.
+  EXPECT_NEAR(knn.TrainingNeighbourDistanceQuantile(1.0, 5), 1.5, 1e-9);
+  EXPECT_NEAR(knn.TrainingNeighbourDistanceQuantile(0.5, 5), 1.0, 1e-9);
+  // Probabilities and the distance from one search.
+  double d = 0;
+  EXPECT_EQ(knn.Probabilities({&far, 1}, &d), knn.Probabilities({&far, 1}));
+  EXPECT_DOUBLE_EQ(d, knn.NeighbourDistance({&far, 1}));
   // Exact duplicates: only the observation itself is left out, its twin is a neighbour at 0.
   const KnnClassifier twins = KnnClassifier::Train({0.f, 0.f, 5.f}, 1, {0, 0, 1}, 2, [] {
     KnnOptions o;

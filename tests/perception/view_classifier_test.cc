@@ -90,6 +90,24 @@ TEST(ViewClassifier, SaveLoadKeepsTheKnnModelsAndTheCrfWeights) {
   EXPECT_EQ(a->knn_labels, b->knn_labels);
   EXPECT_EQ(a->tree_labels, b->tree_labels);
   EXPECT_EQ(a->union_labels, b->union_labels);
+  // Unfamiliarity: one value per superpixel, the same after loading; a training view is familiar, the same
+  // view painted magenta (a colour no training surface has) is not.
+  ASSERT_EQ(a->unfamiliarity.size(), size_t(a->superpixels.count));
+  EXPECT_EQ(a->unfamiliarity, b->unfamiliarity);
+  EXPECT_GT(clf->image_familiar_distance(), 0.0);
+  EXPECT_GT(clf->full_familiar_distance(), 0.0);
+  auto unfamiliar_share = [](const ViewClassification& c) {
+    double n = 0;
+    for (float u : c.unfamiliarity) n += u > 1.f;
+    return n / double(c.unfamiliarity.size());
+  };
+  RenderedView magenta = first;
+  for (size_t i = 0; i + 2 < magenta.rgb.data.size(); i += 3) magenta.rgb.data[i] = 255, magenta.rgb.data[i + 1] = 0, magenta.rgb.data[i + 2] = 255;
+  Result<ViewClassification> m = clf->Classify(magenta);
+  ASSERT_TRUE(m.ok());
+  std::printf("unfamiliar superpixels: training view %.3f, painted magenta %.3f\n", unfamiliar_share(*a), unfamiliar_share(*m));
+  EXPECT_LT(unfamiliar_share(*a), 0.05);
+  EXPECT_GT(unfamiliar_share(*m), 0.9);
   for (const char* suffix : {".image_knn.bin", ".full_knn.bin", ".crf_weights.txt"}) std::remove((prefix + suffix).c_str());
 }
 
