@@ -21,13 +21,9 @@ bool ParseSegmentClassifierKind(const std::string& name, SegmentClassifierKind* 
 
 std::string SegmentClassifierFile(SegmentClassifierKind kind) { return std::string("object_segments.") + SegmentClassifierKindName(kind); }
 
-namespace {
-constexpr double kFamiliarQuantile = 0.99;  // Of the training segments' own neighbour distances.
-}  // namespace
-
 SegmentClassifier::SegmentClassifier(KnnClassifier knn)
     : knn_(std::make_unique<KnnClassifier>(std::move(knn))),
-      familiar_distance_(knn_->TrainingNeighbourDistanceQuantile(kFamiliarQuantile)) {}
+      familiar_distance_(knn_->TrainingNeighbourDistanceQuantile(KnnClassifier::kFamiliarQuantile)) {}
 SegmentClassifier::SegmentClassifier(RandomForest forest)
     : forest_(std::make_unique<RandomForest>(std::move(forest))), familiar_distance_(std::numeric_limits<double>::quiet_NaN()) {}
 SegmentClassifier::SegmentClassifier(SegmentClassifier&&) noexcept = default;
@@ -43,8 +39,18 @@ std::vector<double> SegmentClassifier::Probabilities(std::span<const float> feat
 }
 
 double SegmentClassifier::Unfamiliarity(std::span<const float> features) const {
-  if (!knn_ || !(familiar_distance_ > 0)) return std::numeric_limits<double>::quiet_NaN();
-  return knn_->NeighbourDistance(features) / familiar_distance_;
+  double unfamiliarity = 0;
+  Probabilities(features, &unfamiliarity);
+  return unfamiliarity;
+}
+
+std::vector<double> SegmentClassifier::Probabilities(std::span<const float> features, double* unfamiliarity) const {
+  *unfamiliarity = std::numeric_limits<double>::quiet_NaN();
+  if (forest_) return forest_->Probabilities(features);
+  double distance = 0;
+  std::vector<double> p = knn_->Probabilities(features, &distance);
+  if (familiar_distance_ > 0) *unfamiliarity = distance / familiar_distance_;
+  return p;
 }
 
 Status SegmentClassifier::SaveToDirectory(const std::string& dir) const {

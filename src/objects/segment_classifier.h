@@ -45,6 +45,8 @@ class SegmentClassifier {
   // k nearest others. Above 1 it is farther from the training shapes than 99 % of the training segments are
   // from the rest, and its class is a guess. NaN for the forest, which keeps no training rows.
   double Unfamiliarity(std::span<const float> features) const;
+  // Probabilities and Unfamiliarity from one search.
+  std::vector<double> Probabilities(std::span<const float> features, double* unfamiliarity) const;
   // The denominator above (0.99-quantile of the training segments' neighbour distances); NaN for the forest.
   double familiar_distance() const { return familiar_distance_; }
 

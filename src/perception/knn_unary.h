@@ -74,6 +74,8 @@ class KnnClassifier {
   // search per observation; `max_rows` > 0 takes the quantile over that many observations at an even stride
   // (each still measured against all the others), for large models (the per-view ones' 20,000 rows).
   double TrainingNeighbourDistanceQuantile(double q, size_t max_rows = 0) const;
+  // The quantile beyond which the segment and per-view classifiers call a query unfamiliar.
+  static constexpr double kFamiliarQuantile = 0.99;
 
   // Binary model file (features, labels, options); the kd-tree is rebuilt on load.
   Status Save(const std::string& path) const;

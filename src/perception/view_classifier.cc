@@ -86,8 +86,8 @@ constexpr size_t kFamiliarRows = 2000;  // Training observations the familiar di
 
 ViewClassifier::ViewClassifier(KnnClassifier image_knn, KnnClassifier full_knn, ViewClassifierOptions options)
     : image_knn_(std::move(image_knn)), full_knn_(std::move(full_knn)), options_(std::move(options)) {
-  image_familiar_ = image_knn_.TrainingNeighbourDistanceQuantile(kFamiliarQuantile, kFamiliarRows);
-  full_familiar_ = full_knn_.TrainingNeighbourDistanceQuantile(kFamiliarQuantile, kFamiliarRows);
+  image_familiar_ = image_knn_.TrainingNeighbourDistanceQuantile(KnnClassifier::kFamiliarQuantile, kFamiliarRows);
+  full_familiar_ = full_knn_.TrainingNeighbourDistanceQuantile(KnnClassifier::kFamiliarQuantile, kFamiliarRows);
 }
 
 void ViewClassifier::KnnUnaries(const ViewObservations& observations, std::vector<std::vector<double>>* f1,

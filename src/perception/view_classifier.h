@@ -66,7 +66,7 @@ struct ViewClassification {
   std::vector<std::vector<double>> knn;  // Per superpixel: f2's P_s with depth, f1's without.
   std::vector<int> knn_labels;           // Argmax of knn.
   // Per superpixel: how unlike every training superpixel it is, the mean distance to its k nearest training
-  // observations of the k-NN that gave its unary over that k-NN's ViewClassifier::kFamiliarQuantile of the
+  // observations of the k-NN that gave its unary over that k-NN's KnnClassifier::kFamiliarQuantile of the
   // training observations' own (KnnClassifier::TrainingNeighbourDistanceQuantile). Above 1: its class is a guess.
   std::vector<float> unfamiliarity;
   Marginals tree_marginals;              // Tree CRF (exact sum-product).
@@ -94,9 +94,8 @@ class ViewClassifier {
   }
 
   int num_classes() const { return image_knn_.num_classes(); }
-  // The quantile of the training observations' own neighbour distances that ViewClassification::unfamiliarity
-  // divides by, and the denominators (image-only and full k-NN; over 2,000 observations of each).
-  static constexpr double kFamiliarQuantile = 0.99;
+  // The denominators of ViewClassification::unfamiliarity (image-only and full k-NN; the
+  // KnnClassifier::kFamiliarQuantile of the training observations' own neighbour distances, over 2,000 of each).
   double image_familiar_distance() const { return image_familiar_; }
   double full_familiar_distance() const { return full_familiar_; }
   const ViewClassifierOptions& options() const { return options_; }

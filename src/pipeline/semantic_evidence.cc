@@ -296,9 +296,7 @@ SemanticEvidence SemanticEvidenceBuilder::Finish() && {
   std::vector<std::vector<double>> p(seg.segments.size());
   std::vector<double> unfamiliarity(seg.segments.size());
   tbb::parallel_for(size_t(0), seg.segments.size(), [&](size_t i) {
-    const std::span<const float> f(seg.segments[i].features.data(), seg.segments[i].features.size());
-    p[i] = s.models->segments->Probabilities(f);
-    unfamiliarity[i] = s.models->segments->Unfamiliarity(f);
+    p[i] = s.models->segments->Probabilities({seg.segments[i].features.data(), seg.segments[i].features.size()}, &unfamiliarity[i]);
   });
   s.out.familiar_distance = s.models->segments->familiar_distance();
   const bool knows_familiarity = std::isfinite(s.out.familiar_distance);
