@@ -109,6 +109,25 @@ VoxelLabels VoxelizeLabeledMesh(const Mesh& mesh, double res) {
   return out;
 }
 
+namespace {
+
+// label -> (correct, total) and (ground truth, other predicted label) -> count, as ClassRecall rows.
+std::map<int, ClassRecall> PerClass(const std::map<int, std::pair<size_t, size_t>>& counts,
+                                    const std::map<std::pair<int, int>, size_t>& confusion) {
+  std::map<int, ClassRecall> out;
+  for (const auto& [label, ct] : counts) out[label].count = ct.second, out[label].correct = ct.first;
+  for (const auto& [gp, n] : confusion) out[gp.first].confusions.push_back({gp.second, n});
+  for (auto& [label, row] : out) {
+    // Most pixels first; ascending labels among equals (the map's order, kept by the stable sort).
+    std::stable_sort(row.confusions.begin(), row.confusions.end(), [](const auto& x, const auto& y) { return x.second > y.second; });
+    if (row.confusions.size() > 3) row.confusions.resize(3);
+    if (!row.confusions.empty()) row.most_confused_with = row.confusions.front().first;
+  }
+  return out;
+}
+
+}  // namespace
+
 ImageU16 TopViewFromVoxels(const std::vector<Eigen::Vector3f>& centres, const std::vector<int>& labels,
                            const FloorGrid& grid, double z_lo, double z_hi) {
   ImageU16 img(grid.width, grid.height, 1, 0);
@@ -132,6 +151,7 @@ TopViewScores ScoreTopView(const ImageU16& gt_topview, const ImageU16& gt_rooms,
   size_t n = 0, geo_ok = 0, unknown = 0, sem_ok = 0;
   if (occ) s.geometric_diff = ImageRgb8(grid.width, grid.height, 3, 230);
   std::map<int, std::pair<size_t, size_t>> per_class;  // label -> (correct, total)
+  std::map<std::pair<int, int>, size_t> confusion;      // (ground truth, predicted other label) -> pixels
   for (int r = 0; r < grid.height; ++r)
     for (int c = 0; c < grid.width; ++c) {
       const int g = gt_topview.at(c, r);
@@ -154,6 +174,7 @@ TopViewScores ScoreTopView(const ImageU16& gt_topview, const ImageU16& gt_rooms,
         auto& pc = per_class[g];
         ++pc.second;
         if (p == g) ++pc.first, ++sem_ok;
+        else ++confusion[{g, p}];
       }
     }
   s.pixels = n;
@@ -166,6 +187,7 @@ TopViewScores ScoreTopView(const ImageU16& gt_topview, const ImageU16& gt_rooms,
   if (pred_topview) {
     double sum = 0;
     for (const auto& [label, ct] : per_class) sum += Ratio(ct.first, ct.second);
+    s.per_class = PerClass(per_class, confusion);
     s.semantic_accuracy = Present(sum / double(per_class.size()), std::to_string(per_class.size()) + " classes");
     s.semantic_global = Present(Ratio(sem_ok, n));
   } else {
@@ -178,6 +200,7 @@ VoxelScores ScoreVoxels(const VoxelLabels& gt, const VoxelLabels& pred) {
   VoxelScores s;
   s.gt_voxels = gt.size();
   std::map<int, size_t> tp, gt_count, pred_count;
+  std::map<std::pair<int, int>, size_t> confusion;
   size_t correct = 0, visible = 0;
   size_t n4_tp[5] = {0, 0, 0, 0, 0}, n4_gt[5] = {0, 0, 0, 0, 0}, n4_ok = 0;
   const auto& labels = Nyu40Labels();
@@ -191,6 +214,7 @@ VoxelScores ScoreVoxels(const VoxelLabels& gt, const VoxelLabels& pred) {
     ++gt_count[g];
     ++pred_count[p];
     if (p == g) ++tp[g], ++correct;
+    else ++confusion[{g, p}];
     const int g4 = nyu4(g), p4 = nyu4(p);
     ++n4_gt[g4];
     if (g4 == p4) ++n4_tp[g4], ++n4_ok;
@@ -202,13 +226,16 @@ VoxelScores ScoreVoxels(const VoxelLabels& gt, const VoxelLabels& pred) {
     return s;
   }
   double iou_sum = 0, recall_sum = 0;
+  std::map<int, std::pair<size_t, size_t>> counts;
   for (const auto& [c, n] : gt_count) {
     const size_t t = tp.count(c) ? tp[c] : 0;
     const double iou = double(t) / double(n + (pred_count.count(c) ? pred_count[c] : 0) - t);
     s.iou_per_class[c] = iou;
     iou_sum += iou;
     recall_sum += Ratio(t, n);
+    counts[c] = {t, n};
   }
+  s.per_class = PerClass(counts, confusion);
   const std::string on = std::to_string(visible) + " of " + std::to_string(gt.size()) + " ground-truth voxels";
   s.accuracy = Present(Ratio(correct, visible), on);
   s.mean_recall = Present(recall_sum / double(gt_count.size()), std::to_string(gt_count.size()) + " classes");
@@ -475,6 +502,26 @@ Result<EvalReport> Evaluate(const std::string& pred_dir, const std::string& gt_d
   return rep;
 }
 
+namespace {
+
+// {"class name": {count_name: n, "recall": r, "most_confused_with": "name" or null}}; label 0 is "empty".
+nlohmann::ordered_json PerClassJson(const std::map<int, ClassRecall>& rows, const char* count_name) {
+  auto name_of = [](int c) { return c == 0 ? std::string("empty") : Nyu40Labels()[size_t(std::clamp(c, 0, kNumNyu40 - 1))].name; };
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (const auto& [c, row] : rows)
+    out[name_of(c)] = {{count_name, row.count},
+                       {"recall", Round6(Ratio(row.correct, row.count))},
+                       {"most_confused_with", row.most_confused_with < 0 ? nlohmann::ordered_json() : nlohmann::ordered_json(name_of(row.most_confused_with))}};
+  for (const auto& [c, row] : rows) {
+    nlohmann::ordered_json conf = nlohmann::ordered_json::object();
+    for (const auto& [p, n] : row.confusions) conf[name_of(p)] = n;
+    out[name_of(c)]["confused_with"] = conf;
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string EvalReport::ToJson() const {
   nlohmann::ordered_json j;
   j["pred"] = pred_dir;
@@ -485,11 +532,13 @@ std::string EvalReport::ToJson() const {
                      {"semantic_global", ScoreJson(top_view.semantic_global)},
                      {"pixels", top_view.pixels},
                      {"predicted_unknown_fraction", Round6(top_view.predicted_unknown)}};
+  j["a_top_view"]["per_class"] = PerClassJson(top_view.per_class, "pixels");
   nlohmann::ordered_json iou = nlohmann::ordered_json::object();
   for (const auto& [c, v] : voxels.iou_per_class) iou[Nyu40Labels()[size_t(std::clamp(c, 0, kNumNyu40 - 1))].name] = Round6(v);
   j["b_visible_voxels"] = {{"accuracy", ScoreJson(voxels.accuracy)}, {"mean_recall", ScoreJson(voxels.mean_recall)},
                            {"mean_iou", ScoreJson(voxels.mean_iou)}, {"visible", voxels.visible},
-                           {"gt_voxels", voxels.gt_voxels}, {"iou_per_class", iou}};
+                           {"gt_voxels", voxels.gt_voxels}, {"iou_per_class", iou},
+                           {"per_class", PerClassJson(voxels.per_class, "voxels")}};
   j["c_nyu4"] = {{"ground", ScoreJson(voxels.nyu4_recall[0])}, {"structure", ScoreJson(voxels.nyu4_recall[1])},
                  {"furniture", ScoreJson(voxels.nyu4_recall[2])}, {"props", ScoreJson(voxels.nyu4_recall[3])},
                  {"average", ScoreJson(voxels.nyu4_average)}, {"global", ScoreJson(voxels.nyu4_global)}};

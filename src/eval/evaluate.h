@@ -35,12 +35,21 @@ struct Score {
   std::string note;    // Why it is absent, or what it was computed on.
 };
 
+// One ground-truth class of a score: its pixels or voxels, how many got that label, and the labels most often
+// predicted there instead (-1 when none; ties to the lower id), for seeing which classes hold a class mean down.
+struct ClassRecall {
+  size_t count = 0, correct = 0;
+  int most_confused_with = -1;
+  std::vector<std::pair<int, size_t>> confusions;  // The (up to) three labels most often predicted instead, with their counts.
+};
+
 struct TopViewScores {
   Score geometric_accuracy;      // Occupied vs not, over the apartment's footprint.
   Score semantic_accuracy;       // Mean over classes present in the ground truth ("empty" included) of recall.
   Score semantic_global;         // Fraction of footprint pixels with the right label.
   size_t pixels = 0;             // Footprint pixels scored.
   double predicted_unknown = 0;  // Fraction of footprint pixels the occupancy map leaves unknown.
+  std::map<int, ClassRecall> per_class;  // Per ground-truth top-view label (NYU40 id, 0 = empty).
   // For people (eval_topview.png), on the ground-truth grid: black both occupied, white both not, red
   // occupied in the ground truth only, blue predicted occupied only, light grey outside the footprint.
   ImageRgb8 geometric_diff;
@@ -53,6 +62,7 @@ struct VoxelScores {
   size_t visible = 0;      // Ground-truth surface voxels the prediction holds.
   size_t gt_voxels = 0;    // Ground-truth surface voxels.
   std::map<int, double> iou_per_class;  // NYU40 id -> IoU.
+  std::map<int, ClassRecall> per_class;  // NYU40 id of the ground truth -> its visible voxels.
   // (c) NYU 4-class: recall of ground, structure, furniture, props; their mean; global accuracy.
   Score nyu4_recall[4];
   Score nyu4_average, nyu4_global;

@@ -239,6 +239,7 @@ Result<PipelineResult> RunPipeline(const std::string& input, const PipelineOptio
     semantic.reset();
     r.labels.emplace();
     SEMVOX_RETURN_IF_ERROR(SolveSemantic(map, *r.evidence, r.models->crf, config.semantic.crf, &*r.labels));
+    if (config.semantic.wall_openings) ApplyWallOpenings(map, WallOpeningOptions{}, &*r.labels);
     clock.AddTo(&r.seconds, "voxel_crf");
     progress.End();
   }

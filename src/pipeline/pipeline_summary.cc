@@ -91,7 +91,38 @@ PipelineSummary SummarizePipeline(const PipelineResult& r, const StageTimes& sec
   s["views"] = {{"file", "views.json"}, {"positions", views.positions}, {"views", views.views}, {"kept", views.kept},
                 {"camera_z", input_z(views.camera_z)}, {"surface_voxels", views.surface_voxels},
                 {"surface_voxels_seen", views.seen_surface_voxels}};
-  if (r.labels) s["semantic"] = SemanticSummaryJson(config.semantic, *r.models, *r.evidence, *r.labels);
+  if (r.labels) {
+    s["semantic"] = SemanticSummaryJson(config.semantic, *r.models, *r.evidence, *r.labels);
+    if (config.semantic.wall_openings) {
+      // Each door and window: its centre on the wall's face and its normal into the room, input frame.
+      const double res = map.grid.resolution();
+      nlohmann::ordered_json list = nlohmann::ordered_json::array();
+      int doors = 0, leaves = 0;
+      for (const WallOpening& o : r.labels->openings) {
+        doors += o.nyu40 == 8;
+        leaves += o.open_leaf;
+        const double a = 0.5 * (o.along0 + o.along1), zc = 0.5 * (o.z0 + o.z1);
+        const Eigen::Vector3d c = o.axis == 0 ? map.grid.CellCenter(0, o.line, 0) : map.grid.CellCenter(o.line, 0, 0);
+        const Eigen::Vector3d lo = map.grid.CellCenter(0, 0, 0);
+        Eigen::Vector3d centre(o.axis == 0 ? lo.x() + a * res : c.x(), o.axis == 0 ? c.y() : lo.y() + a * res, lo.z() + zc * res);
+        Eigen::Vector3d normal = o.axis == 0 ? Eigen::Vector3d(0, o.facing, 0) : Eigen::Vector3d(o.facing, 0, 0);
+        if (r.frame_applied) centre = input_from_world * centre, normal = input_from_world.linear() * normal;
+        list.push_back({{"class", o.nyu40 == 8 ? "door" : "window"},
+                        {"centre", {centre.x(), centre.y(), centre.z()}},
+                        {"normal", {normal.x(), normal.y(), normal.z()}},
+                        {"width_m", o.width_m(res)},
+                        {"bottom_m", lo.z() + (o.z0 - 0.5) * res - map.floor_z},
+                        {"top_m", lo.z() + (o.z1 + 0.5) * res - map.floor_z},
+                        {"open_leaf", o.open_leaf},
+                        {"voxels", o.voxels.size()}});
+      }
+      s["semantic"]["wall_openings"] = {{"doors", doors},
+                                        {"windows", int(r.labels->openings.size()) - doors},
+                                        {"open_leaves", leaves},
+                                        {"relabelled_voxels", r.labels->opening_voxels},
+                                        {"openings", list}};
+    }
+  }
   if (r.objects) {
     const SupportStageSummary ss = r.objects->summary();
     nlohmann::ordered_json files = nlohmann::ordered_json::array({"support_clutter.ply", "support_clutter_topview.png"});

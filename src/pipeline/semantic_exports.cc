@@ -101,7 +101,7 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
   j["seconds"] = {{"depth_evidence", evidence.seconds_depth}, {"view_selection", evidence.seconds_selection}, {"classify", evidence.seconds_classify}, {"crf", labels.crf.seconds},
                   {"crf_planes", labels.crf.seconds_planes}, {"crf_ray_starts", labels.crf.seconds_ray_starts},
                   {"crf_confidence", labels.crf.seconds_confidence}, {"object_segments", evidence.seconds_segments},
-                  {"solve_total", labels.seconds}};
+                  {"solve_total", labels.seconds}, {"wall_openings", labels.seconds_openings}};
   j["files"] = {"voxels.ply", "map.ot", "semantic_topview.png", "semantic_topview_labels.png"};
   return j;
 }

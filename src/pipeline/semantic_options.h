@@ -57,6 +57,9 @@ struct SemanticStageOptions {
   int classify_height = 240;
   ClassifyViewSelection view_selection = ClassifyViewSelection::kAuto;
   VoxelCrfModelChoice crf_model = VoxelCrfModelChoice::kAuto;
+  // Doors and windows found in the walls by their shape (objects/wall_openings.h) relabel the wall voxels
+  // of their pane or closed leaf, and their open leaf, after the Voxel-CRF.
+  bool wall_openings = true;
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
@@ -83,6 +86,9 @@ struct SemanticStageOptions {
         },
         NestedOptions(&O::selection, ViewSelectionOptions::Options()),
         {
+            OptionSwitch(&O::wall_openings, "wall_openings",
+                         "after the Voxel-CRF, doors and windows found in the walls by their shape (a rectangle "
+                         "recessed or open in a wall, framed by it) relabel the wall voxels of their pane or leaf"),
             OptionNumber(&O::classify_width, "classify_width", 16, 4096, "pixels",
                          "classification view width (the shipped classifiers are trained at 320)"),
             OptionNumber(&O::classify_height, "classify_height", 16, 4096, "pixels",

@@ -1,5 +1,6 @@
 #include "pipeline/semantic_solve.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "core/log.h"
@@ -18,6 +19,42 @@ Status SolveSemantic(const VoxelMap& map, const SemanticEvidence& evidence, cons
                             << " completed), " << s.crf.num_planes << " planes, " << s.crf.num_object_cliques
                             << " object cliques, " << s.crf.iterations.size() << " iterations, " << s.seconds << " s");
   return Status::Ok();
+}
+
+void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, SemanticLabels* labels) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const VoxelGrid& grid = map.grid;
+  // Up to the ceiling's underside, or the scan's top.
+  double top_z = map.ceiling_z - 0.1;
+  if (!map.ceiling_found) {
+    top_z = grid.MinCorner().z();
+    for (size_t i = grid.size(); i-- > 0;)
+      if (grid.state(i) == VoxelState::kOccupied) {
+        top_z = grid.CellCenter(grid.Cell(i)[0], grid.Cell(i)[1], grid.Cell(i)[2]).z();
+        break;
+      }
+  }
+  labels->openings = FindWallOpenings(grid, map.floor_z, top_z, options);
+  labels->opening_voxels = 0;
+  std::vector<SemanticVoxelRecord>& occupied = labels->map.occupied;  // Ascending voxel index.
+  for (const WallOpening& o : labels->openings) {
+    // A pane or closed leaf is part of the wall's surface: only voxels the CRF took for wall (or the other
+    // opening class) change. An open leaf stands free, so it changes whatever it was taken for.
+    for (uint32_t v : o.voxels) {
+      const auto it = std::lower_bound(occupied.begin(), occupied.end(), v,
+                                       [](const SemanticVoxelRecord& r, uint32_t x) { return r.voxel < x; });
+      if (it == occupied.end() || it->voxel != v || it->label == o.nyu40) continue;
+      const bool structural = it->label == 1 || it->label == 8 || it->label == 9;
+      if (!structural && !(o.open_leaf && it->label != 2 && it->label != 22)) continue;
+      it->label = uint16_t(o.nyu40);
+      ++labels->opening_voxels;
+    }
+  }
+  labels->seconds_openings = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  int doors = 0;
+  for (const WallOpening& o : labels->openings) doors += o.nyu40 == 8;
+  SEMVOX_INFO("wall openings: " << doors << " doors, " << labels->openings.size() - size_t(doors) << " windows, "
+                                << labels->opening_voxels << " voxels relabelled, " << labels->seconds_openings << " s");
 }
 
 }  // namespace semvox

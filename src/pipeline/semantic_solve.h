@@ -7,6 +7,7 @@
 #include "core/status.h"
 #include "core/voxel_grid.h"
 #include "mapping/voxelizer.h"
+#include "objects/wall_openings.h"
 #include "pipeline/semantic_evidence.h"
 #include "voxelcrf/semantic_map.h"
 #include "voxelcrf/voxel_crf.h"
@@ -18,11 +19,18 @@ struct SemanticLabels {
   SemanticMap map;      // The occupied voxels with label, confidence, colour (and room, once assigned).
   VoxelGrid refined;    // The occupancy after the CRF: the grid the later stages use.
   double seconds = 0;
+  std::vector<WallOpening> openings;  // ApplyWallOpenings.
+  size_t opening_voxels = 0;          // Voxels it relabelled.
+  double seconds_openings = 0;
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
 // options (the CRF variants of bench/voxelcrf_bench.cc) over the same evidence.
 Status SolveSemantic(const VoxelMap& map, const SemanticEvidence& evidence, const VoxelCrfModel& model,
                      const VoxelCrfOptions& options, SemanticLabels* labels);
+
+// Doors and windows of the map's walls (objects/wall_openings.h) relabel the labelled voxels of their pane or
+// closed leaf that came out wall, door or window, and every voxel of an open leaf but floor and ceiling.
+void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, SemanticLabels* labels);
 
 }  // namespace semvox

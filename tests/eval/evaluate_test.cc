@@ -51,6 +51,15 @@ TEST(ScoreVoxels, KnownMistakeGivesExactFigures) {
   EXPECT_FALSE(s.nyu4_recall[3].present) << "no props in the ground truth";
   EXPECT_DOUBLE_EQ(s.nyu4_average.value, 2.5 / 3);
   EXPECT_DOUBLE_EQ(s.nyu4_global.value, 3.0 / 4);
+  // Per class: the wall's one mistake went to floor; floor and chair were all right.
+  ASSERT_EQ(s.per_class.size(), 3u);
+  EXPECT_EQ(s.per_class.at(kWall).count, 2u);
+  EXPECT_EQ(s.per_class.at(kWall).correct, 1u);
+  EXPECT_EQ(s.per_class.at(kWall).most_confused_with, kFloor);
+  ASSERT_EQ(s.per_class.at(kWall).confusions.size(), 1u);
+  EXPECT_EQ(s.per_class.at(kWall).confusions[0], (std::pair<int, size_t>(kFloor, 1)));
+  EXPECT_EQ(s.per_class.at(kFloor).most_confused_with, -1);
+  EXPECT_TRUE(s.per_class.at(kChair).confusions.empty());
 }
 
 TEST(ScoreVoxels, PerfectPredictionIsHundredPercent) {
@@ -148,6 +157,11 @@ TEST(ScoreTopView, KnownMistakeGivesExactFigures) {
   EXPECT_DOUBLE_EQ(s.semantic_global.value, 6.0 / 8);
   // Classes: empty 4/5, wall 2/2, table 0/1.
   EXPECT_DOUBLE_EQ(s.semantic_accuracy.value, (0.8 + 1 + 0) / 3);
+  EXPECT_EQ(s.per_class.at(0).count, 5u);
+  EXPECT_EQ(s.per_class.at(0).correct, 4u);
+  EXPECT_EQ(s.per_class.at(0).most_confused_with, kWall);
+  EXPECT_EQ(s.per_class.at(kTable).most_confused_with, kChair);
+  EXPECT_EQ(s.per_class.at(kWall).most_confused_with, -1);
 }
 
 TEST(VoxelizeLabeledMesh, MajorityLabelPerVoxel) {

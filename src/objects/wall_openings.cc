@@ -1,0 +1,259 @@
+#include "objects/wall_openings.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace semvox {
+
+bool WallOpeningOptions::Check(std::string* error) const {
+  auto fail = [&](const std::string& what) {
+    if (error) *error = what;
+    return false;
+  };
+  if (!(min_face_m2 > 0 && max_recess_m > 0 && front_m > 0)) return fail("min_face_m2, max_recess_m and front_m must be > 0");
+  if (!(pane_tolerance_m >= 0)) return fail("pane_tolerance_m must be >= 0");
+  if (!(hole_depth_m > max_recess_m)) return fail("hole_depth_m must be > max_recess_m");
+  if (!(min_flat_share >= 0 && min_flat_share <= 1)) return fail("min_flat_share must be in [0, 1]");
+  if (!(min_fill > 0 && min_fill <= 1 && min_frame_share > 0 && min_frame_share <= 1))
+    return fail("min_fill and min_frame_share must be in (0, 1]");
+  if (!(door_min_width_m > 0 && door_max_width_m >= door_min_width_m && door_max_bottom_m >= 0 && door_min_top_m > 0 &&
+        door_max_top_m >= door_min_top_m))
+    return fail("door sizes: need 0 < door_min_width_m <= door_max_width_m, door_max_bottom_m >= 0, 0 < door_min_top_m <= door_max_top_m");
+  if (!(window_min_width_m > 0 && window_max_width_m >= window_min_width_m && window_min_bottom_m >= 0 && window_min_height_m > 0))
+    return fail("window sizes: need 0 < window_min_width_m <= window_max_width_m, window_min_bottom_m >= 0, window_min_height_m > 0");
+  return true;
+}
+
+namespace {
+
+// What a wall line's elevation cell shows, looking from the room at the wall.
+enum Look : uint8_t {
+  kUnseen = 0,  // The face position was never observed.
+  kFace,        // The first surface is at the face (or up to a cell in front of it).
+  kRecess,      // The first surface lies 1 to max_recess cells behind the face.
+  kHole,        // Free space reaches past the face: nothing there (an open door, unrecorded glass).
+  kHidden,      // Something stands in front of the face.
+  kDeep,        // Free past the deepest recess, but something behind before hole_depth.
+};
+
+// The grid seen along one wall direction: (along, across, z) cells, across = the axis the wall faces.
+struct WallAxes {
+  const VoxelGrid& grid;
+  int axis;  // 0: walls along x, across = y; 1: walls along y, across = x.
+  int along_size() const { return grid.dims()[axis == 0 ? 0 : 1]; }
+  int across_size() const { return grid.dims()[axis == 0 ? 1 : 0]; }
+  bool Contains(int a, int l, int z) const { return axis == 0 ? grid.Contains(a, l, z) : grid.Contains(l, a, z); }
+  size_t Index(int a, int l, int z) const { return axis == 0 ? grid.Index(a, l, z) : grid.Index(l, a, z); }
+  VoxelState State(int a, int l, int z) const { return Contains(a, l, z) ? grid.state(Index(a, l, z)) : VoxelState::kUnknown; }
+  bool Occupied(int a, int l, int z) const { return State(a, l, z) == VoxelState::kOccupied; }
+};
+
+struct Elevation {
+  int width = 0, z_lo = 0, height = 0;
+  std::vector<uint8_t> look;   // width x height, row-major by z.
+  std::vector<int8_t> depth;   // kRecess: cells behind the face of the first surface.
+  uint8_t at(int a, int z) const {
+    return a < 0 || a >= width || z < z_lo || z >= z_lo + height ? uint8_t(kUnseen) : look[size_t(z - z_lo) * width + a];
+  }
+};
+
+Elevation LookAtWall(const WallAxes& w, int facing, int line, int z_lo, int z_hi, int front, int recess, int hole) {
+  Elevation e;
+  e.width = w.along_size(), e.z_lo = z_lo, e.height = std::max(0, z_hi - z_lo + 1);
+  e.look.assign(size_t(e.width) * e.height, kUnseen);
+  e.depth.assign(e.look.size(), 0);
+  for (int z = z_lo; z <= z_hi; ++z)
+    for (int a = 0; a < e.width; ++a) {
+      const size_t i = size_t(z - z_lo) * e.width + a;
+      bool hidden = false;
+      for (int k = 2; k <= front && !hidden; ++k) hidden = w.Occupied(a, line + facing * k, z);
+      if (hidden) {
+        e.look[i] = kHidden;
+        continue;
+      }
+      uint8_t look = kUnseen;
+      int k = 1;
+      for (; k >= -recess; --k) {
+        const VoxelState s = w.State(a, line + facing * k, z);
+        if (s == VoxelState::kFree) continue;
+        if (s == VoxelState::kOccupied) {
+          look = k >= 0 ? kFace : kRecess;
+          e.depth[i] = int8_t(-k);
+        } else if (k < 0) {
+          look = kHole;  // Unknown past the face: the view went through the face's plane.
+        }
+        break;
+      }
+      if (k < -recess || look == kHole) {
+        // Free (or unseen) past the deepest recess: a hole only when nothing is occupied up to hole_depth behind
+        // the face (the next room, the outside); a surface there is a deep niche (the wall under wall cabinets).
+        look = kHole;
+        for (int kk = k; kk >= -hole && look == kHole; --kk)
+          if (w.Occupied(a, line + facing * kk, z)) look = kDeep;
+      }
+      e.look[i] = look;
+    }
+  return e;
+}
+
+// Rows (across index) of one facing whose face cells (occupied, free on the room side) cover at least
+// min_cells, local maxima within 2 rows.
+std::vector<int> WallLines(const WallAxes& w, int facing, int z_lo, int z_hi, int min_cells) {
+  const int L = w.across_size(), A = w.along_size();
+  std::vector<int> count(size_t(L), 0);
+  for (int l = 0; l < L; ++l)
+    for (int z = z_lo; z <= z_hi; ++z)
+      for (int a = 0; a < A; ++a)
+        count[size_t(l)] += w.Occupied(a, l, z) && w.State(a, l + facing, z) == VoxelState::kFree;
+  std::vector<int> lines;
+  for (int l = 0; l < L; ++l) {
+    if (count[size_t(l)] < min_cells) continue;
+    bool peak = true;
+    for (int d = -2; d <= 2 && peak; ++d) {
+      const int m = l + d;
+      if (d == 0 || m < 0 || m >= L) continue;
+      peak = d < 0 ? count[size_t(l)] > count[size_t(m)] : count[size_t(l)] >= count[size_t(m)];
+    }
+    if (peak) lines.push_back(l);
+  }
+  return lines;
+}
+
+}  // namespace
+
+std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z, double top_z, const WallOpeningOptions& o) {
+  std::vector<WallOpening> out;
+  const double res = grid.resolution();
+  const auto& d = grid.dims();
+  if (d[0] <= 0 || d[1] <= 0 || d[2] <= 0) return out;
+  const double z_min = grid.MinCorner().z();
+  auto cell_z = [&](double z) { return int(std::floor((z - z_min) / res)); };
+  auto height_of = [&](int z) { return z_min + (z + 0.5) * res - floor_z; };  // Centre above the floor.
+  const int z_lo = std::max(0, cell_z(floor_z) + 1);  // The first cell above the floor's.
+  const int z_hi = std::min(d[2] - 1, int(std::floor((top_z - z_min) / res - 0.5)));
+  if (z_hi - z_lo < 4) return out;
+  const int band_lo = std::max(z_lo, cell_z(floor_z + 0.3)), band_hi = std::min(z_hi, cell_z(floor_z + 2.2));
+  const int front = std::max(2, int(std::lround(o.front_m / res)));
+  const int recess = std::clamp(int(std::lround(o.max_recess_m / res)), 1, 100);  // Depths fit in int8_t.
+  const int hole = std::max(recess + 1, int(std::lround(o.hole_depth_m / res)));
+  const int pane_slack = int(std::lround(o.pane_tolerance_m / res));
+  const int min_face_cells = std::max(1, int(std::lround(o.min_face_m2 / (res * res))));
+  for (int axis = 0; axis < 2; ++axis) {
+    const WallAxes w{grid, axis};
+    for (int facing : {1, -1}) {
+      for (int line : WallLines(w, facing, band_lo, band_hi, min_face_cells)) {
+        const Elevation e = LookAtWall(w, facing, line, z_lo, z_hi, front, recess, hole);
+        // 4-connected regions of recessed or missing cells.
+        std::vector<int> region(e.look.size(), -1);
+        std::vector<int> stack, cells;
+        for (size_t s = 0; s < e.look.size(); ++s) {
+          if (region[s] >= 0 || (e.look[s] != kRecess && e.look[s] != kHole)) continue;
+          cells.clear();
+          stack.assign(1, int(s));
+          region[s] = int(s);
+          int a0 = e.width, a1 = -1, r0 = e.height, r1 = -1, recessed = 0;
+          while (!stack.empty()) {
+            const int i = stack.back();
+            stack.pop_back();
+            cells.push_back(i);
+            const int a = i % e.width, r = i / e.width;
+            a0 = std::min(a0, a), a1 = std::max(a1, a), r0 = std::min(r0, r), r1 = std::max(r1, r);
+            recessed += e.look[size_t(i)] == kRecess;
+            const int na[4] = {a - 1, a + 1, a, a}, nr[4] = {r, r, r - 1, r + 1};
+            for (int k = 0; k < 4; ++k) {
+              if (na[k] < 0 || nr[k] < 0 || na[k] >= e.width || nr[k] >= e.height) continue;
+              const size_t j = size_t(nr[k]) * e.width + na[k];
+              if (region[j] >= 0 || (e.look[j] != kRecess && e.look[j] != kHole)) continue;
+              region[j] = int(s);
+              stack.push_back(int(j));
+            }
+          }
+          const int z0 = r0 + e.z_lo, z1 = r1 + e.z_lo;
+          const double width = (a1 - a0 + 1) * res, bottom = height_of(z0) - 0.5 * res, top = height_of(z1) + 0.5 * res;
+          const bool door = bottom <= o.door_max_bottom_m && top >= o.door_min_top_m && top <= o.door_max_top_m &&
+                            width >= o.door_min_width_m && width <= o.door_max_width_m;
+          const bool window = !door && bottom >= o.window_min_bottom_m && top - bottom >= o.window_min_height_m &&
+                              width >= o.window_min_width_m && width <= o.window_max_width_m;
+          if (!door && !window) continue;
+          int hidden = 0;
+          for (int r = r0; r <= r1; ++r)
+            for (int a = a0; a <= a1; ++a) hidden += e.look[size_t(r) * e.width + a] == kHidden;
+          const int box = (a1 - a0 + 1) * (r1 - r0 + 1) - hidden;
+          if (box <= 0 || double(cells.size()) < o.min_fill * box) continue;
+          // Framed by the wall: both jambs, the lintel, and a window's sill.
+          auto frame = [&](int a, int z) { const uint8_t l = e.at(a, z); return l == kFace || l == kHidden; };
+          auto jamb = [&](int a_near, int step) {  // Share of the rows with face beside the opening (2 cells).
+            int n = 0;
+            for (int z = z0; z <= z1; ++z) n += frame(a_near, z) || frame(a_near + step, z);
+            return double(n) / double(z1 - z0 + 1);
+          };
+          auto across = [&](int z) {  // Share of the row over the opening's width that is face.
+            int n = 0;
+            for (int a = a0; a <= a1; ++a) n += frame(a, z);
+            return double(n) / double(a1 - a0 + 1);
+          };
+          if (jamb(a0 - 1, -1) < o.min_frame_share || jamb(a1 + 1, 1) < o.min_frame_share) continue;
+          if (std::max(across(z1 + 1), across(z1 + 2)) < o.min_frame_share) continue;
+          if (window && std::max(across(z0 - 1), across(z0 - 2)) < o.min_frame_share) continue;
+          // A pane or a closed leaf is flat: most recessed cells lie within a cell of the commonest depth (the
+          // pane's). Shallower first surfaces are the sill's top and the reveals, which belong to the wall.
+          std::vector<int> depth_count(size_t(recess) + 2, 0);
+          for (int i : cells)
+            if (e.look[size_t(i)] == kRecess) ++depth_count[size_t(e.depth[size_t(i)])];
+          const int pane_depth = int(std::max_element(depth_count.begin(), depth_count.end()) - depth_count.begin());
+          const int flat = depth_count[size_t(pane_depth)] + (pane_depth > 0 ? depth_count[size_t(pane_depth - 1)] : 0) +
+                           depth_count[size_t(pane_depth + 1)];  // Depths are at most recess.
+          if (recessed > 0 && double(flat) < o.min_flat_share * recessed) continue;
+          WallOpening op;
+          op.nyu40 = door ? 8 : 9;
+          op.axis = axis, op.facing = facing, op.line = line;
+          op.along0 = a0, op.along1 = a1, op.z0 = z0, op.z1 = z1;
+          // The pane or closed leaf: the first surface of each recessed cell at the pane's depth (or
+          // pane_tolerance in front) and the cell behind it. An open doorway's recessed cells are the next
+          // room's, so a door takes them only when most of it is recessed.
+          if (window || 2 * recessed >= int(cells.size()))
+            for (int i : cells) {
+              if (e.look[size_t(i)] != kRecess || e.depth[size_t(i)] < pane_depth - pane_slack) continue;
+              const int a = i % e.width, z = i / e.width + e.z_lo, k = -int(e.depth[size_t(i)]);
+              for (int kk = k; kk >= std::max(k - 1, -recess); --kk)
+                if (w.Occupied(a, line + facing * kk, z)) op.voxels.push_back(uint32_t(w.Index(a, line + facing * kk, z)));
+            }
+          if (door) {
+            // An open leaf: a thin panel in front of the wall at one jamb, as long as the opening is wide.
+            const int length = a1 - a0 + 1, rows = z1 - z0 + 1;
+            auto panel = [&](int a, int k) {  // Column (a, line + facing k) occupied over half the door's height.
+              int n = 0;
+              for (int z = z0; z <= z1; ++z) n += w.Occupied(a, line + facing * k, z);
+              return 2 * n >= rows;
+            };
+            // The leaf runs from the wall out into the room for about the opening's width (the opening seen
+            // from the room is narrower by the leaf's own column), then ends; the columns beside it are free.
+            int best_a = -1, best = 0;
+            for (int a : {a0 - 1, a0, a0 + 1, a1 - 1, a1, a1 + 1}) {
+              int run = 0;
+              while (run < length + 6 && panel(a, run + 1)) ++run;
+              int flank = 0;
+              for (int k = 1; k <= run; ++k) flank += panel(a - 2, k) + panel(a + 2, k);
+              const bool ends = run < length + 6 && !panel(a, run + 2);
+              if (ends && 10 * run >= 6 * length && 10 * flank <= 3 * 2 * run && run > best) best = run, best_a = a;
+            }
+            const int leaf_length = best;
+            if (best_a >= 0) {
+              op.open_leaf = true;
+              for (int a = best_a - 1; a <= best_a + 1; ++a)
+                for (int k = 1; k <= leaf_length + 1; ++k)
+                  for (int z = z0; z <= std::min(z1 + 1, z_hi); ++z)
+                    if (w.Occupied(a, line + facing * k, z)) op.voxels.push_back(uint32_t(w.Index(a, line + facing * k, z)));
+            }
+          }
+          std::sort(op.voxels.begin(), op.voxels.end());
+          op.voxels.erase(std::unique(op.voxels.begin(), op.voxels.end()), op.voxels.end());
+          out.push_back(std::move(op));
+        }
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace semvox
