@@ -14,6 +14,7 @@ bool WallOpeningOptions::Check(std::string* error) const {
   if (!(pane_tolerance_m >= 0)) return fail("pane_tolerance_m must be >= 0");
   if (!(hole_depth_m > max_recess_m)) return fail("hole_depth_m must be > max_recess_m");
   if (!(min_flat_share >= 0 && min_flat_share <= 1)) return fail("min_flat_share must be in [0, 1]");
+  if (!(min_frame_seen_share >= 0 && min_frame_seen_share <= 1)) return fail("min_frame_seen_share must be in [0, 1]");
   if (!(min_fill > 0 && min_fill <= 1 && min_frame_share > 0 && min_frame_share <= 1))
     return fail("min_fill and min_frame_share must be in (0, 1]");
   if (!(door_min_width_m > 0 && door_max_width_m >= door_min_width_m && door_max_bottom_m >= 0 && door_min_top_m > 0 &&
@@ -181,16 +182,25 @@ std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z,
           const int box = (a1 - a0 + 1) * (r1 - r0 + 1) - hidden;
           if (box <= 0 || double(cells.size()) < o.min_fill * box) continue;
           // Framed by the wall: both jambs, the lintel, and a window's sill.
+          // Frame shares count the cells the scan saw (a sparse scan often misses the wall above a window), when
+          // it saw at least min_frame_seen_share of them.
           auto frame = [&](int a, int z) { const uint8_t l = e.at(a, z); return l == kFace || l == kHidden; };
+          auto seen = [&](int a, int z) { return e.at(a, z) != kUnseen; };
+          auto share = [&](int framed, int looked, int total) {
+            return looked > 0 && looked >= o.min_frame_seen_share * total ? double(framed) / double(looked) : 0.0;
+          };
           auto jamb = [&](int a_near, int step) {  // Share of the rows with face beside the opening (2 cells).
-            int n = 0;
-            for (int z = z0; z <= z1; ++z) n += frame(a_near, z) || frame(a_near + step, z);
-            return double(n) / double(z1 - z0 + 1);
+            int n = 0, s = 0;
+            for (int z = z0; z <= z1; ++z) {
+              n += frame(a_near, z) || frame(a_near + step, z);
+              s += seen(a_near, z) || seen(a_near + step, z);
+            }
+            return share(n, s, z1 - z0 + 1);
           };
           auto across = [&](int z) {  // Share of the row over the opening's width that is face.
-            int n = 0;
-            for (int a = a0; a <= a1; ++a) n += frame(a, z);
-            return double(n) / double(a1 - a0 + 1);
+            int n = 0, s = 0;
+            for (int a = a0; a <= a1; ++a) n += frame(a, z), s += seen(a, z);
+            return share(n, s, a1 - a0 + 1);
           };
           if (jamb(a0 - 1, -1) < o.min_frame_share || jamb(a1 + 1, 1) < o.min_frame_share) continue;
           if (std::max(across(z1 + 1), across(z1 + 2)) < o.min_frame_share) continue;

@@ -19,7 +19,9 @@
 // (up to `max_recess_m`), missing (free space past the face: a hole), or hidden by something standing in
 // front (up to `front_m` before the face). Connected recessed-or-missing regions that are rectangular
 // (`min_fill` of their box, cells hidden by furniture not counted), framed by the face on both sides and
-// above (`min_frame_share`) and sized like a door or a window become openings. The opening's voxels are
+// above (`min_frame_share` of the cells the scan saw there, when it saw `min_frame_seen_share` of them: a
+// sparse scan often misses the wall above a window), flat (`min_flat_share`) and sized like a door or a
+// window become openings. The opening's voxels are
 // the first surface of each recessed cell (the pane or the closed leaf) and, for a door whose opening is a
 // hole, an open leaf: a thin panel standing free in front of the wall at one jamb, about as long as the
 // opening is wide and as high.
@@ -41,7 +43,8 @@ struct WallOpeningOptions {
   double pane_tolerance_m = 0.05;   // A pane's voxels lie at the opening's commonest depth, or this much in front (scan noise). >= 0.
   double min_flat_share = 0.8;      // Recessed cells within a cell of the commonest depth / all recessed cells (a flat pane). [0, 1].
   double min_fill = 0.7;            // Opening cells / cells of their box not hidden by furniture. (0, 1].
-  double min_frame_share = 0.5;     // Share of the cells just beside and above an opening that are face (or hidden). (0, 1].
+  double min_frame_share = 0.5;     // Share of the seen cells just beside and above an opening that are face (or hidden). (0, 1].
+  double min_frame_seen_share = 0.25;  // ... when at least this share of those cells was seen (else not framed). [0, 1].
   double door_min_width_m = 0.5;    // Doors: width range, metres.
   double door_max_width_m = 1.5;
   double door_max_bottom_m = 0.2;   // ... bottom at most this far above the floor,

@@ -154,6 +154,19 @@ TEST(WallOpenings, FurnitureInFrontHidesPartOfAWindowWithoutHidingIt) {
   EXPECT_EQ(openings[0].voxels.size(), 24u * 24u - 12u * 12u);
 }
 
+TEST(WallOpenings, AWallTheScanSawOnlyInPartAboveAWindowStillFramesIt) {
+  // The wall above the window (rows 42 and 43, its lintel) unseen over the first `unseen` of its 24 columns.
+  auto with_unseen_lintel = [](int unseen) {
+    WallScene s;
+    s.Recess(10, 33, 18, 41, 2);
+    for (int z = 42; z <= 43; ++z)
+      for (int x = 10; x < 10 + unseen; ++x) s.Set(x, WallScene::kFace, z, VoxelState::kUnknown);
+    return FindWallOpenings(s.grid, s.FloorZ(), s.TopZ()).size();
+  };
+  EXPECT_EQ(with_unseen_lintel(15), 1u);  // 9 of 24 seen (>= min_frame_seen_share 0.25), all of them face.
+  EXPECT_EQ(with_unseen_lintel(21), 0u);  // 3 of 24 seen: too little to call it framed.
+}
+
 TEST(WallOpenings, WallsAlongYAndFacingEitherWayAreLookedAtToo) {
   // The same window in a wall along y facing -x: transpose the scene and mirror x.
   WallScene s;
