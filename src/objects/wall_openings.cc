@@ -205,15 +205,18 @@ std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z,
           if (jamb(a0 - 1, -1) < o.min_frame_share || jamb(a1 + 1, 1) < o.min_frame_share) continue;
           if (std::max(across(z1 + 1), across(z1 + 2)) < o.min_frame_share) continue;
           if (window && std::max(across(z0 - 1), across(z0 - 2)) < o.min_frame_share) continue;
-          // A pane or a closed leaf is flat: most recessed cells lie within a cell of the commonest depth (the
-          // pane's). Shallower first surfaces are the sill's top and the reveals, which belong to the wall.
+          // A pane or a closed leaf is flat: most of a mostly recessed opening's recessed cells lie within a cell
+          // of the commonest depth (the pane's). Shallower first surfaces are the sill's top and the reveals,
+          // which belong to the wall.
           std::vector<int> depth_count(size_t(recess) + 2, 0);
           for (int i : cells)
             if (e.look[size_t(i)] == kRecess) ++depth_count[size_t(e.depth[size_t(i)])];
           const int pane_depth = int(std::max_element(depth_count.begin(), depth_count.end()) - depth_count.begin());
           const int flat = depth_count[size_t(pane_depth)] + (pane_depth > 0 ? depth_count[size_t(pane_depth - 1)] : 0) +
                            depth_count[size_t(pane_depth + 1)];  // Depths are at most recess.
-          if (recessed > 0 && double(flat) < o.min_flat_share * recessed) continue;
+          const bool mostly_recessed = 2 * recessed >= int(cells.size());
+          if (mostly_recessed && double(flat) < o.min_flat_share * recessed) continue;  // (An open doorway's few
+          // recessed cells are whatever the next room holds.)
           WallOpening op;
           op.nyu40 = door ? 8 : 9;
           op.axis = axis, op.facing = facing, op.line = line;
@@ -221,7 +224,7 @@ std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z,
           // The pane or closed leaf: the first surface of each recessed cell at the pane's depth (or
           // pane_tolerance in front) and the cell behind it. An open doorway's recessed cells are the next
           // room's, so a door takes them only when most of it is recessed.
-          if (window || 2 * recessed >= int(cells.size()))
+          if (window || mostly_recessed)
             for (int i : cells) {
               if (e.look[size_t(i)] != kRecess || e.depth[size_t(i)] < pane_depth - pane_slack) continue;
               const int a = i % e.width, z = i / e.width + e.z_lo, k = -int(e.depth[size_t(i)]);
@@ -237,13 +240,13 @@ std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z,
               return 2 * n >= rows;
             };
             // The leaf runs from the wall out into the room for about the opening's width (the opening seen
-            // from the room is narrower by the leaf's own column), then ends; the columns beside it are free.
+            // from the room is narrower by the leaf's own column), then ends; the columns three cells to either side are free (a scanned leaf is up to three cells thick).
             int best_a = -1, best = 0;
             for (int a : {a0 - 1, a0, a0 + 1, a1 - 1, a1, a1 + 1}) {
               int run = 0;
               while (run < length + 6 && panel(a, run + 1)) ++run;
               int flank = 0;
-              for (int k = 1; k <= run; ++k) flank += panel(a - 2, k) + panel(a + 2, k);
+              for (int k = 1; k <= run; ++k) flank += panel(a - 3, k) + panel(a + 3, k);
               const bool ends = run < length + 6 && !panel(a, run + 2);
               if (ends && 10 * run >= 6 * length && 10 * flank <= 3 * 2 * run && run > best) best = run, best_a = a;
             }
