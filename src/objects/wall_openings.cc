@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace semvox {
 
@@ -120,6 +122,118 @@ std::vector<int> WallLines(const WallAxes& w, int facing, int z_lo, int z_hi, in
   return lines;
 }
 
+// A 4-connected region of recessed or missing cells of an elevation (cells: row-major indices).
+struct Region {
+  std::vector<int> cells;
+  int a0 = 0, a1 = -1, r0 = 0, r1 = -1;  // Bounding box: along, rows of the elevation.
+  int recessed = 0;                      // Of the cells, how many are kRecess.
+  bool mostly_recessed() const { return 2 * recessed >= int(cells.size()); }
+};
+
+std::vector<Region> OpeningRegions(const Elevation& e) {
+  auto open = [&](size_t i) { return e.look[i] == kRecess || e.look[i] == kHole; };
+  std::vector<Region> out;
+  std::vector<uint8_t> done(e.look.size(), 0);
+  std::vector<int> stack;
+  for (size_t s = 0; s < e.look.size(); ++s) {
+    if (done[s] || !open(s)) continue;
+    Region g;
+    g.a0 = e.width, g.r0 = e.height;
+    stack.assign(1, int(s));
+    done[s] = 1;
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      g.cells.push_back(i);
+      const int a = i % e.width, r = i / e.width;
+      g.a0 = std::min(g.a0, a), g.a1 = std::max(g.a1, a), g.r0 = std::min(g.r0, r), g.r1 = std::max(g.r1, r);
+      g.recessed += e.look[size_t(i)] == kRecess;
+      const int na[4] = {a - 1, a + 1, a, a}, nr[4] = {r, r, r - 1, r + 1};
+      for (int k = 0; k < 4; ++k) {
+        if (na[k] < 0 || nr[k] < 0 || na[k] >= e.width || nr[k] >= e.height) continue;
+        const size_t j = size_t(nr[k]) * e.width + na[k];
+        if (!done[j] && open(j)) done[j] = 1, stack.push_back(int(j));
+      }
+    }
+    out.push_back(std::move(g));
+  }
+  return out;
+}
+
+// Rectangular: the region fills min_fill of its box, the box's hidden cells not counted.
+bool Rectangular(const Elevation& e, const Region& g, const WallOpeningOptions& o) {
+  int hidden = 0;
+  for (int r = g.r0; r <= g.r1; ++r)
+    for (int a = g.a0; a <= g.a1; ++a) hidden += e.look[size_t(r) * e.width + a] == kHidden;
+  const int box = (g.a1 - g.a0 + 1) * (g.r1 - g.r0 + 1) - hidden;
+  return box > 0 && double(g.cells.size()) >= o.min_fill * box;
+}
+
+// Framed by the wall: both jambs, the lintel, and (`sill`) the sill. Shares count the cells the scan saw (a sparse
+// scan often misses the wall above a window), when it saw at least min_frame_seen_share of them.
+bool Framed(const Elevation& e, const Region& g, bool sill, const WallOpeningOptions& o) {
+  const int z0 = g.r0 + e.z_lo, z1 = g.r1 + e.z_lo;
+  auto frame = [&](int a, int z) { const uint8_t l = e.at(a, z); return l == kFace || l == kHidden; };
+  auto seen = [&](int a, int z) { return e.at(a, z) != kUnseen; };
+  auto share = [&](int framed, int looked, int total) {
+    return looked > 0 && looked >= o.min_frame_seen_share * total ? double(framed) / double(looked) : 0.0;
+  };
+  auto jamb = [&](int a_near, int step) {  // Rows with face within two cells beside the opening.
+    int n = 0, s = 0;
+    for (int z = z0; z <= z1; ++z) {
+      n += frame(a_near, z) || frame(a_near + step, z);
+      s += seen(a_near, z) || seen(a_near + step, z);
+    }
+    return share(n, s, z1 - z0 + 1);
+  };
+  auto across = [&](int z) {  // The row over the opening's width.
+    int n = 0, s = 0;
+    for (int a = g.a0; a <= g.a1; ++a) n += frame(a, z), s += seen(a, z);
+    return share(n, s, g.a1 - g.a0 + 1);
+  };
+  return jamb(g.a0 - 1, -1) >= o.min_frame_share && jamb(g.a1 + 1, 1) >= o.min_frame_share &&
+         std::max(across(z1 + 1), across(z1 + 2)) >= o.min_frame_share &&
+         (!sill || std::max(across(z0 - 1), across(z0 - 2)) >= o.min_frame_share);
+}
+
+// The recessed cells' commonest depth (the pane's), and whether 0.8 (min_flat_share) of them lie within a cell of it.
+std::pair<int, bool> PaneDepth(const Elevation& e, const Region& g, int recess, const WallOpeningOptions& o) {
+  std::vector<int> count(size_t(recess) + 2, 0);  // Depths are at most recess.
+  for (int i : g.cells)
+    if (e.look[size_t(i)] == kRecess) ++count[size_t(e.depth[size_t(i)])];
+  const int pane = int(std::max_element(count.begin(), count.end()) - count.begin());
+  const int flat = count[size_t(pane)] + (pane > 0 ? count[size_t(pane - 1)] : 0) + count[size_t(pane + 1)];
+  return {pane, double(flat) >= o.min_flat_share * g.recessed};
+}
+
+// An open door's leaf in front of the wall: a thin panel at one jamb (the columns within a cell of either edge),
+// occupied over half the door's height, running from the wall out into the room for at least 0.6 of the opening's
+// width (the opening seen from the room is narrower by the leaf's own column) and then ending, the columns three
+// cells to either side free (a scanned leaf is up to three cells thick). Adds its voxels; false when there is none.
+bool AddOpenLeaf(const WallAxes& w, int facing, int line, const Region& g, int z_lo, int z_hi, std::vector<uint32_t>* voxels) {
+  const int z0 = g.r0 + z_lo, z1 = g.r1 + z_lo, length = g.a1 - g.a0 + 1, rows = z1 - z0 + 1;
+  auto panel = [&](int a, int k) {  // Column (a, line + facing k) occupied over half the door's height.
+    int n = 0;
+    for (int z = z0; z <= z1; ++z) n += w.Occupied(a, line + facing * k, z);
+    return 2 * n >= rows;
+  };
+  int best_a = -1, best = 0;
+  for (int a : {g.a0 - 1, g.a0, g.a0 + 1, g.a1 - 1, g.a1, g.a1 + 1}) {
+    int run = 0;
+    while (run < length + 6 && panel(a, run + 1)) ++run;
+    int flank = 0;
+    for (int k = 1; k <= run; ++k) flank += panel(a - 3, k) + panel(a + 3, k);
+    const bool ends = run < length + 6 && !panel(a, run + 2);
+    if (ends && 10 * run >= 6 * length && 10 * flank <= 3 * 2 * run && run > best) best = run, best_a = a;
+  }
+  if (best_a < 0) return false;
+  for (int a = best_a - 1; a <= best_a + 1; ++a)
+    for (int k = 1; k <= best + 1; ++k)
+      for (int z = z0; z <= std::min(z1 + 1, z_hi); ++z)
+        if (w.Occupied(a, line + facing * k, z)) voxels->push_back(uint32_t(w.Index(a, line + facing * k, z)));
+  return true;
+}
+
 }  // namespace
 
 std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z, double top_z, const WallOpeningOptions& o) {
@@ -141,130 +255,41 @@ std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z,
   const int min_face_cells = std::max(1, int(std::lround(o.min_face_m2 / (res * res))));
   for (int axis = 0; axis < 2; ++axis) {
     const WallAxes w{grid, axis};
-    for (int facing : {1, -1}) {
+    for (int facing : {1, -1})
       for (int line : WallLines(w, facing, band_lo, band_hi, min_face_cells)) {
         const Elevation e = LookAtWall(w, facing, line, z_lo, z_hi, front, recess, hole);
-        // 4-connected regions of recessed or missing cells.
-        std::vector<int> region(e.look.size(), -1);
-        std::vector<int> stack, cells;
-        for (size_t s = 0; s < e.look.size(); ++s) {
-          if (region[s] >= 0 || (e.look[s] != kRecess && e.look[s] != kHole)) continue;
-          cells.clear();
-          stack.assign(1, int(s));
-          region[s] = int(s);
-          int a0 = e.width, a1 = -1, r0 = e.height, r1 = -1, recessed = 0;
-          while (!stack.empty()) {
-            const int i = stack.back();
-            stack.pop_back();
-            cells.push_back(i);
-            const int a = i % e.width, r = i / e.width;
-            a0 = std::min(a0, a), a1 = std::max(a1, a), r0 = std::min(r0, r), r1 = std::max(r1, r);
-            recessed += e.look[size_t(i)] == kRecess;
-            const int na[4] = {a - 1, a + 1, a, a}, nr[4] = {r, r, r - 1, r + 1};
-            for (int k = 0; k < 4; ++k) {
-              if (na[k] < 0 || nr[k] < 0 || na[k] >= e.width || nr[k] >= e.height) continue;
-              const size_t j = size_t(nr[k]) * e.width + na[k];
-              if (region[j] >= 0 || (e.look[j] != kRecess && e.look[j] != kHole)) continue;
-              region[j] = int(s);
-              stack.push_back(int(j));
-            }
-          }
-          const int z0 = r0 + e.z_lo, z1 = r1 + e.z_lo;
-          const double width = (a1 - a0 + 1) * res, bottom = height_of(z0) - 0.5 * res, top = height_of(z1) + 0.5 * res;
+        for (const Region& g : OpeningRegions(e)) {
+          const int z0 = g.r0 + e.z_lo, z1 = g.r1 + e.z_lo;
+          const double width = (g.a1 - g.a0 + 1) * res, bottom = height_of(z0) - 0.5 * res, top = height_of(z1) + 0.5 * res;
           const bool door = bottom <= o.door_max_bottom_m && top >= o.door_min_top_m && top <= o.door_max_top_m &&
                             width >= o.door_min_width_m && width <= o.door_max_width_m;
           const bool window = !door && bottom >= o.window_min_bottom_m && top - bottom >= o.window_min_height_m &&
                               width >= o.window_min_width_m && width <= o.window_max_width_m;
-          if (!door && !window) continue;
-          int hidden = 0;
-          for (int r = r0; r <= r1; ++r)
-            for (int a = a0; a <= a1; ++a) hidden += e.look[size_t(r) * e.width + a] == kHidden;
-          const int box = (a1 - a0 + 1) * (r1 - r0 + 1) - hidden;
-          if (box <= 0 || double(cells.size()) < o.min_fill * box) continue;
-          // Framed by the wall: both jambs, the lintel, and a window's sill.
-          // Frame shares count the cells the scan saw (a sparse scan often misses the wall above a window), when
-          // it saw at least min_frame_seen_share of them.
-          auto frame = [&](int a, int z) { const uint8_t l = e.at(a, z); return l == kFace || l == kHidden; };
-          auto seen = [&](int a, int z) { return e.at(a, z) != kUnseen; };
-          auto share = [&](int framed, int looked, int total) {
-            return looked > 0 && looked >= o.min_frame_seen_share * total ? double(framed) / double(looked) : 0.0;
-          };
-          auto jamb = [&](int a_near, int step) {  // Share of the rows with face beside the opening (2 cells).
-            int n = 0, s = 0;
-            for (int z = z0; z <= z1; ++z) {
-              n += frame(a_near, z) || frame(a_near + step, z);
-              s += seen(a_near, z) || seen(a_near + step, z);
-            }
-            return share(n, s, z1 - z0 + 1);
-          };
-          auto across = [&](int z) {  // Share of the row over the opening's width that is face.
-            int n = 0, s = 0;
-            for (int a = a0; a <= a1; ++a) n += frame(a, z), s += seen(a, z);
-            return share(n, s, a1 - a0 + 1);
-          };
-          if (jamb(a0 - 1, -1) < o.min_frame_share || jamb(a1 + 1, 1) < o.min_frame_share) continue;
-          if (std::max(across(z1 + 1), across(z1 + 2)) < o.min_frame_share) continue;
-          if (window && std::max(across(z0 - 1), across(z0 - 2)) < o.min_frame_share) continue;
-          // A pane or a closed leaf is flat: most of a mostly recessed opening's recessed cells lie within a cell
-          // of the commonest depth (the pane's). Shallower first surfaces are the sill's top and the reveals,
-          // which belong to the wall.
-          std::vector<int> depth_count(size_t(recess) + 2, 0);
-          for (int i : cells)
-            if (e.look[size_t(i)] == kRecess) ++depth_count[size_t(e.depth[size_t(i)])];
-          const int pane_depth = int(std::max_element(depth_count.begin(), depth_count.end()) - depth_count.begin());
-          const int flat = depth_count[size_t(pane_depth)] + (pane_depth > 0 ? depth_count[size_t(pane_depth - 1)] : 0) +
-                           depth_count[size_t(pane_depth + 1)];  // Depths are at most recess.
-          const bool mostly_recessed = 2 * recessed >= int(cells.size());
-          if (mostly_recessed && double(flat) < o.min_flat_share * recessed) continue;  // (An open doorway's few
-          // recessed cells are whatever the next room holds.)
+          if ((!door && !window) || !Rectangular(e, g, o) || !Framed(e, g, window, o)) continue;
+          // A pane or a closed leaf is flat. An open doorway's few recessed cells are whatever the next room
+          // holds: no test, and none of them are its voxels.
+          const auto [pane_depth, flat] = PaneDepth(e, g, recess, o);
+          if (g.mostly_recessed() && !flat) continue;
           WallOpening op;
           op.nyu40 = door ? 8 : 9;
           op.axis = axis, op.facing = facing, op.line = line;
-          op.along0 = a0, op.along1 = a1, op.z0 = z0, op.z1 = z1;
+          op.along0 = g.a0, op.along1 = g.a1, op.z0 = z0, op.z1 = z1;
           // The pane or closed leaf: the first surface of each recessed cell at the pane's depth (or
-          // pane_tolerance in front) and the cell behind it. An open doorway's recessed cells are the next
-          // room's, so a door takes them only when most of it is recessed.
-          if (window || mostly_recessed)
-            for (int i : cells) {
+          // pane_tolerance in front: shallower first surfaces are the sill's top and the reveals, the wall's),
+          // and the cell behind it.
+          if (window || g.mostly_recessed())
+            for (int i : g.cells) {
               if (e.look[size_t(i)] != kRecess || e.depth[size_t(i)] < pane_depth - pane_slack) continue;
               const int a = i % e.width, z = i / e.width + e.z_lo, k = -int(e.depth[size_t(i)]);
               for (int kk = k; kk >= std::max(k - 1, -recess); --kk)
                 if (w.Occupied(a, line + facing * kk, z)) op.voxels.push_back(uint32_t(w.Index(a, line + facing * kk, z)));
             }
-          if (door) {
-            // An open leaf: a thin panel in front of the wall at one jamb, as long as the opening is wide.
-            const int length = a1 - a0 + 1, rows = z1 - z0 + 1;
-            auto panel = [&](int a, int k) {  // Column (a, line + facing k) occupied over half the door's height.
-              int n = 0;
-              for (int z = z0; z <= z1; ++z) n += w.Occupied(a, line + facing * k, z);
-              return 2 * n >= rows;
-            };
-            // The leaf runs from the wall out into the room for about the opening's width (the opening seen
-            // from the room is narrower by the leaf's own column), then ends; the columns three cells to either side are free (a scanned leaf is up to three cells thick).
-            int best_a = -1, best = 0;
-            for (int a : {a0 - 1, a0, a0 + 1, a1 - 1, a1, a1 + 1}) {
-              int run = 0;
-              while (run < length + 6 && panel(a, run + 1)) ++run;
-              int flank = 0;
-              for (int k = 1; k <= run; ++k) flank += panel(a - 3, k) + panel(a + 3, k);
-              const bool ends = run < length + 6 && !panel(a, run + 2);
-              if (ends && 10 * run >= 6 * length && 10 * flank <= 3 * 2 * run && run > best) best = run, best_a = a;
-            }
-            const int leaf_length = best;
-            if (best_a >= 0) {
-              op.open_leaf = true;
-              for (int a = best_a - 1; a <= best_a + 1; ++a)
-                for (int k = 1; k <= leaf_length + 1; ++k)
-                  for (int z = z0; z <= std::min(z1 + 1, z_hi); ++z)
-                    if (w.Occupied(a, line + facing * k, z)) op.voxels.push_back(uint32_t(w.Index(a, line + facing * k, z)));
-            }
-          }
+          if (door) op.open_leaf = AddOpenLeaf(w, facing, line, g, e.z_lo, z_hi, &op.voxels);
           std::sort(op.voxels.begin(), op.voxels.end());
           op.voxels.erase(std::unique(op.voxels.begin(), op.voxels.end()), op.voxels.end());
           out.push_back(std::move(op));
         }
       }
-    }
   }
   return out;
 }
