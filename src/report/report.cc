@@ -408,9 +408,18 @@ Result<std::string> RenderReportHtml(const std::string& outdir, const ReportOpti
                                                              Count(n) + " cells (" + Num(100.0 * double(n_free) / n, 1) +
                                                              " % free, " + Num(100.0 * double(n_occ) / n, 1) + " % occupied)"});
     }
-    if (semantic)
+    if (semantic) {
       for (const char* k : {"occupied_voxels", "completed_voxels"})
         if (const auto* v = Get(*semantic, k)) rows.push_back({std::string("voxel CRF ") + k, Escape(Scalar(*v))});
+      if (const auto* o = Get(*semantic, "wall_openings")) {  // objects/wall_openings.h
+        const auto* doors = Get(*o, "doors");
+        const auto* windows = Get(*o, "windows");
+        const auto* leaves = Get(*o, "open_leaves");
+        if (doors && windows && leaves)
+          rows.push_back({"doors and windows found in the walls", Escape(Scalar(*doors)) + " doors (" + Escape(Scalar(*leaves)) +
+                                                                      " standing open), " + Escape(Scalar(*windows)) + " windows"});
+      }
+    }
     if (rows.empty()) html << kNotComputed;
     else html << KeyValueTable(rows);
   }

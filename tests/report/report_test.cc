@@ -30,7 +30,8 @@ void WriteFakeOutdir(const std::string& dir, bool with_semantic) {
   )") + (with_semantic ? R"("semantic": {"occupied_voxels": 10, "completed_voxels": 2,
      "iterations": [{"energy_initial": 5123.5, "energy_final": 4021.25, "energy_per_sweep": [4500.0, 4021.25],
                      "sweeps": 2, "changed_labels": 77, "seconds": 0.5}],
-     "labels": {"wall": 99}, "seconds": {"crf": 0.5}},
+     "labels": {"wall": 99}, "seconds": {"crf": 0.5},
+     "wall_openings": {"doors": 3, "windows": 4, "open_leaves": 1, "relabelled_voxels": 50, "openings": []}},
   )" : "") + R"("warnings": ["a warning <b>escaped</b>"],
   "seconds": {"load": 0.25, "voxelize": 1.5, "total": 3.0}
 })");
@@ -99,6 +100,7 @@ TEST(Report, ShowsTheOutdirsNumbersAndInlineImages) {
   // Unknown space: 60 of 100 voxels; 50 of 200 top-view cells.
   EXPECT_NE(html.find("<b>60.0 %</b> of 100 voxels"), std::string::npos);
   EXPECT_NE(html.find("<b>25.0 %</b> of 200 cells"), std::string::npos);
+  EXPECT_NE(html.find("doors and windows found in the walls</th><td>3 doors (1 standing open), 4 windows"), std::string::npos);
   // Room table: sorted by id; explicit fields for room 1, the distribution's argmax and runner-up for room 2,
   // dashes for room 3's absent probabilities and ceiling.
   const size_t r1 = html.find("<tr data-room=\"1\">"), r2 = html.find("<tr data-room=\"2\">"), r3 = html.find("<tr data-room=\"3\">");
