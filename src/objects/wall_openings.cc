@@ -209,7 +209,8 @@ std::pair<int, bool> PaneDepth(const Elevation& e, const Region& g, int recess, 
 // An open door's leaf in front of the wall: a thin panel at one jamb (the columns within a cell of either edge),
 // occupied over half the door's height, running from the wall out into the room for at least 0.6 of the opening's
 // width (the opening seen from the room is narrower by the leaf's own column) and then ending, the columns three
-// cells to either side free (a scanned leaf is up to three cells thick). Adds its voxels; false when there is none.
+// cells to either side not occupied (a scanned leaf is up to three cells thick), and nothing much above it or
+// within two cells of it (a wall meeting the doorway goes on up to the ceiling). Adds its voxels; false when there is none.
 bool AddOpenLeaf(const WallAxes& w, int facing, int line, const Region& g, int z_lo, int z_hi, std::vector<uint32_t>* voxels) {
   const int z0 = g.r0 + z_lo, z1 = g.r1 + z_lo, length = g.a1 - g.a0 + 1, rows = z1 - z0 + 1;
   auto panel = [&](int a, int k) {  // Column (a, line + facing k) occupied over half the door's height.
@@ -224,7 +225,16 @@ bool AddOpenLeaf(const WallAxes& w, int facing, int line, const Region& g, int z
     int flank = 0;
     for (int k = 1; k <= run; ++k) flank += panel(a - 3, k) + panel(a + 3, k);
     const bool ends = run < length + 6 && !panel(a, run + 2);
-    if (ends && 10 * run >= 6 * length && 10 * flank <= 3 * 2 * run && run > best) best = run, best_a = a;
+    // A leaf ends with the door; a wall at the jamb (a partition meeting the doorway, or a perpendicular wall
+    // whose window pane looks like a leaf) goes on up: its column, or one within two cells, is occupied above.
+    bool stops = true;
+    for (int c = a - 2; c <= a + 2 && stops; ++c) {
+      int above = 0, looked = 0;
+      for (int k = 1; k <= run; ++k)
+        for (int z = z1 + 3; z <= z_hi; ++z) above += w.Occupied(c, line + facing * k, z), ++looked;
+      stops = c == a ? 10 * above <= 3 * looked : 2 * above <= looked;
+    }
+    if (ends && stops && 10 * run >= 6 * length && 10 * flank <= 3 * 2 * run && run > best) best = run, best_a = a;
   }
   if (best_a < 0) return false;
   for (int a = best_a - 1; a <= best_a + 1; ++a)

@@ -102,6 +102,19 @@ TEST(WallOpenings, WindowClosedDoorAndOpenDoorWithItsLeafAreFoundWithTheirExtent
   EXPECT_NEAR(window->width_m(WallScene::kRes), 1.2, 1e-9);
 }
 
+TEST(WallOpenings, AWallMeetingTheDoorwayIsNoLeaf) {
+  // The same doorway, with a partition wall at its left jamb instead of a leaf: it runs up to the ceiling.
+  WallScene s;
+  s.Doorway(80, 96, 40);
+  for (int z = 1; z < WallScene::kTop; ++z)
+    for (int k = 1; k <= 17; ++k) s.Set(80, WallScene::kFace + k, z, VoxelState::kOccupied);
+  const std::vector<WallOpening> openings = FindWallOpenings(s.grid, s.FloorZ(), s.TopZ());
+  ASSERT_EQ(openings.size(), 1u);
+  EXPECT_EQ(openings[0].nyu40, 8);
+  EXPECT_FALSE(openings[0].open_leaf);
+  EXPECT_TRUE(openings[0].voxels.empty());
+}
+
 TEST(WallOpenings, APlainWallAndShapesUnlikeOpeningsGiveNone) {
   {
     WallScene s;
