@@ -24,6 +24,13 @@ Eigen::Vector3d VoxelGrid::MinCorner() const {
           double(origin_key_[2] - kKeyOffset) * resolution_};
 }
 
+int VoxelGrid::TopOccupiedLayer() const {
+  // Indices grow with z fastest-last, so the last occupied index lies in the highest occupied layer.
+  for (size_t i = state_.size(); i-- > 0;)
+    if (VoxelState(state_[i]) == VoxelState::kOccupied) return Cell(i)[2];
+  return -1;
+}
+
 std::array<size_t, 3> VoxelGrid::CountStates() const {
   std::array<size_t, 3> c{0, 0, 0};
   for (uint8_t s : state_) c[s < 3 ? s : 0]++;

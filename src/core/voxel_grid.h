@@ -57,6 +57,7 @@ class VoxelGrid {
   const uint8_t* state_data() const { return state_.data(); }
 
   std::array<size_t, 3> CountStates() const;  // unknown, free, occupied
+  int TopOccupiedLayer() const;  // z index of the highest occupied voxel, -1 when none is.
 
  private:
   double resolution_ = 0.05;

@@ -258,10 +258,7 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
   const double res = grid.resolution();
   out.structure.assign(grid.size(), 0);
   if (grid.size() == 0) return out;
-  // Top of the scan: highest occupied layer.
-  int top_cell = -1;
-  for (size_t i = 0; i < grid.size(); ++i)
-    if (grid.state(i) == VoxelState::kOccupied) top_cell = std::max(top_cell, grid.Cell(i)[2]);
+  const int top_cell = grid.TopOccupiedLayer();  // Top of the scan.
   const double top_z = ceiling_found ? ceiling_z : (top_cell >= 0 ? grid.CellCenter(0, 0, top_cell).z() : floor_z);
   // Wall columns: occupied over at least wall_min_coverage of the band [floor + wall_band_bottom_m, top -
   // wall_band_top_m] (gaps of any length allowed: a sparse scan leaves holes, windows and doors cut walls),

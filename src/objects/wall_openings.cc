@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/labels.h"
+
 namespace semvox {
 
 bool WallOpeningOptions::Check(std::string* error) const {
@@ -281,7 +283,7 @@ std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z,
           const auto [pane_depth, flat] = PaneDepth(e, g, recess, o);
           if (g.mostly_recessed() && !flat) continue;
           WallOpening op;
-          op.nyu40 = door ? 8 : 9;
+          op.nyu40 = door ? nyu40::kDoor : nyu40::kWindow;
           op.axis = axis, op.facing = facing, op.line = line;
           op.along0 = g.a0, op.along1 = g.a1, op.z0 = z0, op.z1 = z1;
           // The pane or closed leaf: the first surface of each recessed cell at the pane's depth (or

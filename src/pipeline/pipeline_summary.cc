@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "core/file_util.h"
+#include "core/labels.h"
 #include "objects/support_stage.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/semantic_exports.h"
@@ -99,7 +100,7 @@ PipelineSummary SummarizePipeline(const PipelineResult& r, const StageTimes& sec
       nlohmann::ordered_json list = nlohmann::ordered_json::array();
       int doors = 0, leaves = 0;
       for (const WallOpening& o : r.labels->openings) {
-        doors += o.nyu40 == 8;
+        doors += o.nyu40 == nyu40::kDoor;
         leaves += o.open_leaf;
         const double a = 0.5 * (o.along0 + o.along1), zc = 0.5 * (o.z0 + o.z1);
         const Eigen::Vector3d c = o.axis == 0 ? map.grid.CellCenter(0, o.line, 0) : map.grid.CellCenter(o.line, 0, 0);
@@ -107,7 +108,7 @@ PipelineSummary SummarizePipeline(const PipelineResult& r, const StageTimes& sec
         Eigen::Vector3d centre(o.axis == 0 ? lo.x() + a * res : c.x(), o.axis == 0 ? c.y() : lo.y() + a * res, lo.z() + zc * res);
         Eigen::Vector3d normal = o.axis == 0 ? Eigen::Vector3d(0, o.facing, 0) : Eigen::Vector3d(o.facing, 0, 0);
         if (r.frame_applied) centre = input_from_world * centre, normal = input_from_world.linear() * normal;
-        list.push_back({{"class", o.nyu40 == 8 ? "door" : "window"},
+        list.push_back({{"class", o.nyu40 == nyu40::kDoor ? "door" : "window"},
                         {"centre", {centre.x(), centre.y(), centre.z()}},
                         {"normal", {normal.x(), normal.y(), normal.z()}},
                         {"width_m", o.width_m(res)},

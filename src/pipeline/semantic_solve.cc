@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "core/labels.h"
 #include "core/log.h"
 
 namespace semvox {
@@ -25,15 +26,8 @@ void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, S
   const auto t0 = std::chrono::steady_clock::now();
   const VoxelGrid& grid = map.grid;
   // Up to the ceiling's underside, or the scan's top.
-  double top_z = map.ceiling_z - 0.1;
-  if (!map.ceiling_found) {
-    top_z = grid.MinCorner().z();
-    for (size_t i = grid.size(); i-- > 0;)
-      if (grid.state(i) == VoxelState::kOccupied) {
-        top_z = grid.CellCenter(grid.Cell(i)[0], grid.Cell(i)[1], grid.Cell(i)[2]).z();
-        break;
-      }
-  }
+  const int top_cell = grid.TopOccupiedLayer();
+  const double top_z = map.ceiling_found ? map.ceiling_z - 0.1 : top_cell >= 0 ? grid.CellCenter(0, 0, top_cell).z() : map.floor_z;
   labels->openings = FindWallOpenings(grid, map.floor_z, top_z, options);
   labels->opening_voxels = 0;
   std::vector<SemanticVoxelRecord>& occupied = labels->map.occupied;  // Ascending voxel index.
@@ -44,15 +38,15 @@ void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, S
       const auto it = std::lower_bound(occupied.begin(), occupied.end(), v,
                                        [](const SemanticVoxelRecord& r, uint32_t x) { return r.voxel < x; });
       if (it == occupied.end() || it->voxel != v || it->label == o.nyu40) continue;
-      const bool structural = it->label == 1 || it->label == 8 || it->label == 9;
-      if (!structural && !(o.open_leaf && it->label != 2 && it->label != 22)) continue;
+      const bool structural = it->label == nyu40::kWall || it->label == nyu40::kDoor || it->label == nyu40::kWindow;
+      if (!structural && !(o.open_leaf && it->label != nyu40::kFloor && it->label != nyu40::kCeiling)) continue;
       it->label = uint16_t(o.nyu40);
       ++labels->opening_voxels;
     }
   }
   labels->seconds_openings = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   int doors = 0;
-  for (const WallOpening& o : labels->openings) doors += o.nyu40 == 8;
+  for (const WallOpening& o : labels->openings) doors += o.nyu40 == nyu40::kDoor;
   SEMVOX_INFO("wall openings: " << doors << " doors, " << labels->openings.size() - size_t(doors) << " windows, "
                                 << labels->opening_voxels << " voxels relabelled, " << labels->seconds_openings << " s");
 }
