@@ -124,7 +124,8 @@ std::vector<int> WallLines(const WallAxes& w, int facing, int z_lo, int z_hi, in
   return lines;
 }
 
-// A 4-connected region of recessed or missing cells of an elevation (cells: row-major indices).
+// A 4-connected region of recessed or missing cells of an elevation, or (recess_only) of recessed cells alone
+// (cells: row-major indices).
 struct Region {
   std::vector<int> cells;
   int a0 = 0, a1 = -1, r0 = 0, r1 = -1;  // Bounding box: along, rows of the elevation.
@@ -132,8 +133,8 @@ struct Region {
   bool mostly_recessed() const { return 2 * recessed >= int(cells.size()); }
 };
 
-std::vector<Region> OpeningRegions(const Elevation& e) {
-  auto open = [&](size_t i) { return e.look[i] == kRecess || e.look[i] == kHole; };
+std::vector<Region> OpeningRegions(const Elevation& e, bool recess_only) {
+  auto open = [&](size_t i) { return e.look[i] == kRecess || (!recess_only && e.look[i] == kHole); };
   std::vector<Region> out;
   std::vector<uint8_t> done(e.look.size(), 0);
   std::vector<int> stack;
@@ -172,8 +173,9 @@ bool Rectangular(const Elevation& e, const Region& g, const WallOpeningOptions& 
 }
 
 // Framed by the wall: both jambs, the lintel, and (`sill`) the sill. Shares count the cells the scan saw (a sparse
-// scan often misses the wall above a window), when it saw at least min_frame_seen_share of them.
-bool Framed(const Elevation& e, const Region& g, bool sill, const WallOpeningOptions& o) {
+// scan often misses the wall above a window), when it saw at least min_frame_seen_share of them. With
+// `blank_lintel`, a lintel whose two rows show no face (unseen, missing or recessed cells only) passes too.
+bool Framed(const Elevation& e, const Region& g, bool sill, bool blank_lintel, const WallOpeningOptions& o) {
   const int z0 = g.r0 + e.z_lo, z1 = g.r1 + e.z_lo;
   auto frame = [&](int a, int z) { const uint8_t l = e.at(a, z); return l == kFace || l == kHidden; };
   auto seen = [&](int a, int z) { return e.at(a, z) != kUnseen; };
@@ -193,8 +195,13 @@ bool Framed(const Elevation& e, const Region& g, bool sill, const WallOpeningOpt
     for (int a = g.a0; a <= g.a1; ++a) n += frame(a, z), s += seen(a, z);
     return share(n, s, g.a1 - g.a0 + 1);
   };
+  auto blank = [&](int z) {
+    for (int a = g.a0; a <= g.a1; ++a)
+      if (e.at(a, z) == kFace || e.at(a, z) == kHidden) return false;
+    return true;
+  };
   return jamb(g.a0 - 1, -1) >= o.min_frame_share && jamb(g.a1 + 1, 1) >= o.min_frame_share &&
-         std::max(across(z1 + 1), across(z1 + 2)) >= o.min_frame_share &&
+         (std::max(across(z1 + 1), across(z1 + 2)) >= o.min_frame_share || (blank_lintel && blank(z1 + 1) && blank(z1 + 2))) &&
          (!sill || std::max(across(z0 - 1), across(z0 - 2)) >= o.min_frame_share);
 }
 
@@ -206,6 +213,27 @@ std::pair<int, bool> PaneDepth(const Elevation& e, const Region& g, int recess, 
   const int pane = int(std::max_element(count.begin(), count.end()) - count.begin());
   const int flat = count[size_t(pane)] + (pane > 0 ? count[size_t(pane - 1)] : 0) + count[size_t(pane + 1)];
   return {pane, double(flat) >= o.min_flat_share * g.recessed};
+}
+
+// The region without its ragged top and bottom: rows holding under half as many cells as its fullest row (a
+// reveal's strip of recess beside a jamb, a sill's few cells) are cut off.
+Region TrimRows(const Elevation& e, const Region& g) {
+  std::vector<int> count(size_t(g.r1 - g.r0 + 1), 0);
+  for (int i : g.cells) ++count[size_t(i / e.width - g.r0)];
+  const int full = *std::max_element(count.begin(), count.end());
+  int r0 = g.r0, r1 = g.r1;
+  while (r0 < r1 && 2 * count[size_t(r0 - g.r0)] < full) ++r0;
+  while (r1 > r0 && 2 * count[size_t(r1 - g.r0)] < full) --r1;
+  Region t;
+  t.a0 = e.width, t.r0 = r0, t.r1 = r1;
+  for (int i : g.cells) {
+    const int r = i / e.width, a = i % e.width;
+    if (r < r0 || r > r1) continue;
+    t.cells.push_back(i);
+    t.a0 = std::min(t.a0, a), t.a1 = std::max(t.a1, a);
+    t.recessed += e.look[size_t(i)] == kRecess;
+  }
+  return t;
 }
 
 // An open door's leaf in front of the wall: a thin panel at one jamb (the columns within a cell of either edge),
@@ -270,18 +298,22 @@ std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z,
     for (int facing : {1, -1})
       for (int line : WallLines(w, facing, band_lo, band_hi, min_face_cells)) {
         const Elevation e = LookAtWall(w, facing, line, z_lo, z_hi, front, recess, hole);
-        for (const Region& g : OpeningRegions(e)) {
+        // pane_only: a region of recessed cells alone, cut from a larger region of recessed and missing cells
+        // that was no opening: a window pane whose lintel the scan never saw joins the unseen wall above it.
+        // It can only be a window, and its lintel may be blank.
+        auto accept = [&](const Region& region, bool pane_only) {
+          const Region g = pane_only ? TrimRows(e, region) : region;
           const int z0 = g.r0 + e.z_lo, z1 = g.r1 + e.z_lo;
           const double width = (g.a1 - g.a0 + 1) * res, bottom = height_of(z0) - 0.5 * res, top = height_of(z1) + 0.5 * res;
-          const bool door = bottom <= o.door_max_bottom_m && top >= o.door_min_top_m && top <= o.door_max_top_m &&
+          const bool door = !pane_only && bottom <= o.door_max_bottom_m && top >= o.door_min_top_m && top <= o.door_max_top_m &&
                             width >= o.door_min_width_m && width <= o.door_max_width_m;
           const bool window = !door && bottom >= o.window_min_bottom_m && top - bottom >= o.window_min_height_m &&
                               width >= o.window_min_width_m && width <= o.window_max_width_m;
-          if ((!door && !window) || !Rectangular(e, g, o) || !Framed(e, g, window, o)) continue;
+          if ((!door && !window) || !Rectangular(e, g, o) || !Framed(e, g, window, pane_only, o)) return false;
           // A pane or a closed leaf is flat. An open doorway's few recessed cells are whatever the next room
           // holds: no test, and none of them are its voxels.
           const auto [pane_depth, flat] = PaneDepth(e, g, recess, o);
-          if (g.mostly_recessed() && !flat) continue;
+          if (g.mostly_recessed() && !flat) return false;
           WallOpening op;
           op.nyu40 = door ? nyu40::kDoor : nyu40::kWindow;
           op.axis = axis, op.facing = facing, op.line = line;
@@ -300,7 +332,14 @@ std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z,
           std::sort(op.voxels.begin(), op.voxels.end());
           op.voxels.erase(std::unique(op.voxels.begin(), op.voxels.end()), op.voxels.end());
           out.push_back(std::move(op));
-        }
+          return true;
+        };
+        std::vector<uint8_t> retry(e.look.size(), 0);  // Cells of rejected regions that mix recessed and missing cells.
+        for (const Region& g : OpeningRegions(e, false))
+          if (!accept(g, false) && g.recessed > 0 && g.recessed < int(g.cells.size()))
+            for (int i : g.cells) retry[size_t(i)] = 1;
+        for (const Region& g : OpeningRegions(e, true))
+          if (retry[size_t(g.cells.front())] && g.cells.size() >= 2) accept(g, true);
       }
   }
   return out;

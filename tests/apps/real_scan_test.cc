@@ -29,8 +29,9 @@ namespace {
 // setting in brackets.
 constexpr double kMinFloorRecall = 0.95;    // Floor band labelled floor; measured 0.978 (0.985).
 constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.431 (0.546).
-constexpr double kMinMeanBoxRecall = 0.15;  // Mean over boxes holding voxels; measured 0.199 with the doors and
-                                            // windows found in the walls (2026-12-05), 0.134 without, 0.106 before.
+constexpr double kMinMeanBoxRecall = 0.18;  // Mean over boxes holding voxels; measured 0.220 with the doors and
+                                            // windows found in the walls (2026-12-05; 0.199 before the window pane
+                                            // cut from unrecorded glass), 0.134 without, 0.106 before.
 constexpr int kMinRooms = 3;                // Rooms in rooms.geojson; measured 3 (2026-12-05): living room 28.6 m²,
                                             // kitchen 9.6 m², the bathroom 4.0 m² (typed kitchen); 2 before.
 constexpr double kMinUnfamiliarShare = 0.3;  // Object segment voxels unlike every training segment; measured 0.52.
@@ -50,7 +51,8 @@ const std::map<std::string, double> kMinClassRecall = {
     {"sofa", 0.10},         // measured 0.171 (0.297)
     {"table", 0.05},        // measured 0.090 (0.055; desk voxels count)
     {"toilet", 0.0},        // measured 0.000
-    {"window", 0.20},       // measured 0.262 with the windows found in the walls, 0.046 without
+    {"window", 0.30},       // measured 0.393 with the windows found in the walls (0.262 before the pane cut from
+                            // unrecorded glass), 0.046 without
 };
 
 const std::string kDataDir = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/scannet_scene0000_00";

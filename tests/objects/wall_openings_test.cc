@@ -180,6 +180,34 @@ TEST(WallOpenings, AWallTheScanSawOnlyInPartAboveAWindowStillFramesIt) {
   EXPECT_EQ(with_unseen_lintel(21), 0u);  // 3 of 24 seen: too little to call it framed.
 }
 
+TEST(WallOpenings, APaneWhoseUnseenWallAboveJoinsUnrecordedGlassIsAWindow) {
+  // The ScanNet studio's bathroom window: the wall above the pane never seen, and a strip of unrecorded glass
+  // (the view through the wall's plane, nothing behind) beside the right jamb rising to the top of the scan.
+  // The pane and the strip make one region with no lintel; the pane alone, cut from it, is the window.
+  auto openings = [](bool glass) {
+    WallScene s;
+    s.Recess(10, 33, 18, 41, 2);
+    for (int z = 42; z < WallScene::kTop; ++z)
+      for (int x = 10; x <= 33; ++x) s.Set(x, WallScene::kFace, z, VoxelState::kUnknown);
+    if (glass)
+      for (int z = 42; z < WallScene::kTop; ++z)
+        for (int x = 30; x <= 33; ++x)
+          for (int y = WallScene::kFace - 1; y <= WallScene::kFace; ++y) s.Set(x, y, z, VoxelState::kFree);
+    return FindWallOpenings(s.grid, s.FloorZ(), s.TopZ());
+  };
+  const std::vector<WallOpening> found = openings(true);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].nyu40, 9);
+  EXPECT_EQ(found[0].along0, 10);
+  EXPECT_EQ(found[0].along1, 33);
+  EXPECT_EQ(found[0].z0, 18);
+  EXPECT_EQ(found[0].z1, 41);
+  EXPECT_EQ(found[0].voxels.size(), 24u * 24u);
+  // Without the glass the wall above is only unseen: too little seen to call the pane framed (as a lintel seen
+  // over 3 of its 24 cells above).
+  EXPECT_TRUE(openings(false).empty());
+}
+
 TEST(WallOpenings, WallsAlongYAndFacingEitherWayAreLookedAtToo) {
   // The same window in a wall along y facing -x: transpose the scene and mirror x.
   WallScene s;
