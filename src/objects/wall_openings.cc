@@ -15,7 +15,7 @@ bool WallOpeningOptions::Check(std::string* error) const {
     return false;
   };
   if (!(min_face_m2 > 0 && max_recess_m > 0 && front_m > 0)) return fail("min_face_m2, max_recess_m and front_m must be > 0");
-  if (!(pane_tolerance_m >= 0)) return fail("pane_tolerance_m must be >= 0");
+  if (!(pane_tolerance_m >= 0 && pane_behind_m >= 0)) return fail("pane_tolerance_m and pane_behind_m must be >= 0");
   if (!(hole_depth_m > max_recess_m)) return fail("hole_depth_m must be > max_recess_m");
   if (!(min_flat_share >= 0 && min_flat_share <= 1)) return fail("min_flat_share must be in [0, 1]");
   if (!(min_frame_seen_share >= 0 && min_frame_seen_share <= 1)) return fail("min_frame_seen_share must be in [0, 1]");
@@ -215,6 +215,35 @@ std::pair<int, bool> PaneDepth(const Elevation& e, const Region& g, int recess, 
   return {pane, double(flat) >= o.min_flat_share * g.recessed};
 }
 
+// The elevation with each face or recessed cell's depth replaced by the lower median of the depths of the face
+// and recessed cells in its 3x3 neighbourhood (face as 0), where there are at least five, and a median of one
+// cell taken as face: a fused cloud's wall face reads as face and one-cell recess mixed (point noise, spacing),
+// and its pane as one to three cells deep.
+Elevation Smoothed(const Elevation& e) {
+  Elevation s = e;
+  std::vector<int> v;
+  for (int r = 0; r < e.height; ++r)
+    for (int a = 0; a < e.width; ++a) {
+      const size_t i = size_t(r) * e.width + a;
+      if (e.look[i] != kFace && e.look[i] != kRecess) continue;
+      v.clear();
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int da = -1; da <= 1; ++da) {
+          const int rr = r + dr, aa = a + da;
+          if (rr < 0 || aa < 0 || rr >= e.height || aa >= e.width) continue;
+          const size_t j = size_t(rr) * e.width + aa;
+          if (e.look[j] == kFace) v.push_back(0);
+          else if (e.look[j] == kRecess) v.push_back(e.depth[j]);
+        }
+      if (v.size() < 5) continue;
+      std::nth_element(v.begin(), v.begin() + (v.size() - 1) / 2, v.end());
+      const int m = v[(v.size() - 1) / 2];
+      s.look[i] = m <= 1 ? kFace : kRecess;
+      s.depth[i] = int8_t(m <= 1 ? 0 : m);
+    }
+  return s;
+}
+
 // The region without its ragged top and bottom: rows holding under half as many cells as its fullest row (a
 // reveal's strip of recess beside a jamb, a sill's few cells) are cut off.
 Region TrimRows(const Elevation& e, const Region& g) {
@@ -292,27 +321,37 @@ std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z,
   const int recess = std::clamp(int(std::lround(o.max_recess_m / res)), 1, 100);  // Depths fit in int8_t.
   const int hole = std::max(recess + 1, int(std::lround(o.hole_depth_m / res)));
   const int pane_slack = int(std::lround(o.pane_tolerance_m / res));
+  const int behind = int(std::lround(o.pane_behind_m / res));
   const int min_face_cells = std::max(1, int(std::lround(o.min_face_m2 / (res * res))));
   for (int axis = 0; axis < 2; ++axis) {
     const WallAxes w{grid, axis};
     for (int facing : {1, -1})
       for (int line : WallLines(w, facing, band_lo, band_hi, min_face_cells)) {
         const Elevation e = LookAtWall(w, facing, line, z_lo, z_hi, front, recess, hole);
-        // pane_only: a region of recessed cells alone, cut from a larger region of recessed and missing cells
-        // that was no opening: a window pane whose lintel the scan never saw joins the unseen wall above it.
-        // It can only be a window, and its lintel may be blank.
-        auto accept = [&](const Region& region, bool pane_only) {
-          const Region g = pane_only ? TrimRows(e, region) : region;
+        // Three looks at the wall, the later ones only where the earlier found nothing:
+        //  kPlain: regions of recessed and missing cells;
+        //  kPaneOnly: a region of recessed cells alone, cut from a larger region of recessed and missing cells
+        //    that was no opening: a window pane whose lintel the scan never saw joins the unseen wall above it.
+        //    It can only be a window, and its lintel may be blank;
+        //  kSmoothed: the regions of the Smoothed elevation: a fused cloud's noisy face joins every pane to the
+        //    whole wall through its one-cell recesses.
+        // The later two are trimmed of ragged rows. `te` is the elevation the region and its tests read; the
+        // voxels are always taken from the scan's own first surfaces (`e`).
+        enum Pass { kPlain, kPaneOnly, kSmoothed };
+        auto accept = [&](const Region& region, Pass pass, const Elevation& te) {
+          const bool pane_only = pass == kPaneOnly;
+          const Region g = pass == kPlain ? region : TrimRows(te, region);
+          if (g.cells.empty()) return false;
           const int z0 = g.r0 + e.z_lo, z1 = g.r1 + e.z_lo;
           const double width = (g.a1 - g.a0 + 1) * res, bottom = height_of(z0) - 0.5 * res, top = height_of(z1) + 0.5 * res;
           const bool door = !pane_only && bottom <= o.door_max_bottom_m && top >= o.door_min_top_m && top <= o.door_max_top_m &&
                             width >= o.door_min_width_m && width <= o.door_max_width_m;
           const bool window = !door && bottom >= o.window_min_bottom_m && top - bottom >= o.window_min_height_m &&
                               width >= o.window_min_width_m && width <= o.window_max_width_m;
-          if ((!door && !window) || !Rectangular(e, g, o) || !Framed(e, g, window, pane_only, o)) return false;
+          if ((!door && !window) || !Rectangular(te, g, o) || !Framed(te, g, window, pane_only, o)) return false;
           // A pane or a closed leaf is flat. An open doorway's few recessed cells are whatever the next room
           // holds: no test, and none of them are its voxels.
-          const auto [pane_depth, flat] = PaneDepth(e, g, recess, o);
+          const auto [pane_depth, flat] = PaneDepth(te, g, recess, o);
           if (g.mostly_recessed() && !flat) return false;
           WallOpening op;
           op.nyu40 = door ? nyu40::kDoor : nyu40::kWindow;
@@ -320,26 +359,42 @@ std::vector<WallOpening> FindWallOpenings(const VoxelGrid& grid, double floor_z,
           op.along0 = g.a0, op.along1 = g.a1, op.z0 = z0, op.z1 = z1;
           // The pane or closed leaf: the first surface of each recessed cell at the pane's depth (or
           // pane_tolerance in front: shallower first surfaces are the sill's top and the reveals, the wall's),
-          // and the cell behind it.
+          // and the cells up to pane_behind_m behind it.
           if (window || g.mostly_recessed())
             for (int i : g.cells) {
               if (e.look[size_t(i)] != kRecess || e.depth[size_t(i)] < pane_depth - pane_slack) continue;
               const int a = i % e.width, z = i / e.width + e.z_lo, k = -int(e.depth[size_t(i)]);
-              for (int kk = k; kk >= std::max(k - 1, -recess); --kk)
+              for (int kk = k; kk >= k - behind; --kk)
                 if (w.Occupied(a, line + facing * kk, z)) op.voxels.push_back(uint32_t(w.Index(a, line + facing * kk, z)));
             }
+          // A smoothed window whose cells hold no first surface at its pane's depth is the median's, not the scan's.
+          if (pass == kSmoothed && window && op.voxels.empty()) return false;
           if (door) op.open_leaf = AddOpenLeaf(w, facing, line, g, e.z_lo, z_hi, &op.voxels);
           std::sort(op.voxels.begin(), op.voxels.end());
           op.voxels.erase(std::unique(op.voxels.begin(), op.voxels.end()), op.voxels.end());
           out.push_back(std::move(op));
           return true;
         };
-        std::vector<uint8_t> retry(e.look.size(), 0);  // Cells of rejected regions that mix recessed and missing cells.
-        for (const Region& g : OpeningRegions(e, false))
-          if (!accept(g, false) && g.recessed > 0 && g.recessed < int(g.cells.size()))
+        std::vector<uint8_t> taken(e.look.size(), 0);  // Cells of the openings found.
+        // Cells of rejected regions that mix recessed and missing cells, a tenth of them or more missing (a
+        // recessed surface with a few holes is a wall seen past something standing in front of it, not glass).
+        std::vector<uint8_t> retry(e.look.size(), 0);
+        for (const Region& g : OpeningRegions(e, false)) {
+          if (accept(g, kPlain, e)) {
+            for (int i : g.cells) taken[size_t(i)] = 1;
+          } else if (g.recessed > 0 && 10 * (int(g.cells.size()) - g.recessed) >= int(g.cells.size())) {
             for (int i : g.cells) retry[size_t(i)] = 1;
+          }
+        }
         for (const Region& g : OpeningRegions(e, true))
-          if (retry[size_t(g.cells.front())] && g.cells.size() >= 2) accept(g, true);
+          if (retry[size_t(g.cells.front())] && g.cells.size() >= 2 && accept(g, kPaneOnly, e))
+            for (int i : g.cells) taken[size_t(i)] = 1;
+        const Elevation smooth = Smoothed(e);
+        for (const Region& g : OpeningRegions(smooth, false)) {
+          bool free = g.cells.size() >= 2;
+          for (size_t k = 0; k < g.cells.size() && free; ++k) free = !taken[size_t(g.cells[k])];
+          if (free) accept(g, kSmoothed, smooth);
+        }
       }
   }
   return out;

@@ -41,6 +41,8 @@ struct WallOpeningOptions {
   double hole_depth_m = 0.6;        // A hole is free (or unseen) past the face and has nothing occupied up to this far behind. > max_recess_m.
   double front_m = 0.2;             // Something occupied up to this far in front of the face hides the cell. > 0.
   double pane_tolerance_m = 0.05;   // A pane's voxels lie at the opening's commonest depth, or this much in front (scan noise). >= 0.
+  double pane_behind_m = 0.1;       // ... and up to this far behind a cell's first surface (a fused cloud spreads a pane over
+                                    // two or three cells). >= 0.
   double min_flat_share = 0.8;      // Recessed cells within a cell of the commonest depth / all recessed cells (a flat pane). [0, 1].
   double min_fill = 0.7;            // Opening cells / cells of their box not hidden by furniture. (0, 1].
   double min_frame_share = 0.5;     // Share of the seen cells just beside and above an opening that are face (or hidden). (0, 1].
