@@ -195,9 +195,9 @@ bool Framed(const Elevation& e, const Region& g, bool sill, bool blank_lintel, c
     for (int a = g.a0; a <= g.a1; ++a) n += frame(a, z), s += seen(a, z);
     return share(n, s, g.a1 - g.a0 + 1);
   };
-  auto blank = [&](int z) {
+  auto blank = [&](int z) {  // No face (nor anything hiding it) over the opening's width.
     for (int a = g.a0; a <= g.a1; ++a)
-      if (e.at(a, z) == kFace || e.at(a, z) == kHidden) return false;
+      if (frame(a, z)) return false;
     return true;
   };
   return jamb(g.a0 - 1, -1) >= o.min_frame_share && jamb(g.a1 + 1, 1) >= o.min_frame_share &&
