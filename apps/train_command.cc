@@ -23,6 +23,7 @@
 
 #include "apps/commands.h"
 #include "core/file_util.h"
+#include "core/labels.h"
 #include "core/log.h"
 #include "objects/proposal_training.h"
 #include "objects/segment_training.h"
@@ -118,7 +119,8 @@ Status ForEachSegmentedView(uint64_t seed, const TrainingViewsOptions& views, co
 }
 
 // The object-segment classifier on randomised scans of --segment-seeds, scored on val_seeds; writes
-// OUT/object_segments.knn (or .forest, --segment-classifier) and returns the report's JSON.
+// OUT/object_segments.knn (or .forest, --segment-classifier) and the "other" labeller OUT/other_labels.knn from
+// the same scans, and returns the report's JSON.
 Result<nlohmann::json> TrainSegments(const TrainArgs& args, const std::vector<uint64_t>& val_seeds, const LabelLevel& level) {
   SegmentTrainingOptions so;
   SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.segment_seeds, "--segment-seeds", &so.train_seeds));
@@ -127,9 +129,11 @@ Result<nlohmann::json> TrainSegments(const TrainArgs& args, const std::vector<ui
   if (!ParseSegmentClassifierKind(args.segment_classifier, &so.classifier))
     return Status::InvalidInput("--segment-classifier: expected knn or forest, got '" + args.segment_classifier + "'");
   SegmentTrainingSummary summary;
-  Result<SegmentClassifier> seg = TrainSegmentClassifier(so, &summary);
+  std::optional<OtherLabeller> other;
+  Result<SegmentClassifier> seg = TrainSegmentClassifier(so, &summary, &other);
   if (!seg.ok()) return seg.status();
   SEMVOX_RETURN_IF_ERROR(seg->SaveToDirectory(args.outdir));
+  SEMVOX_RETURN_IF_ERROR(other->Save(args.outdir + "/" + kOtherLabellerFile));
   nlohmann::json j;
   j["seeds"] = args.segment_seeds;
   j["classifier"] = SegmentClassifierKindName(so.classifier);
@@ -137,6 +141,17 @@ Result<nlohmann::json> TrainSegments(const TrainArgs& args, const std::vector<ui
   j["val_segments"] = summary.val_segments;
   j["val_segment_accuracy"] = std::round(1e4 * summary.val_segment_accuracy) / 1e4;
   j["val_voxels"] = Scores(summary.val_voxels, level);
+  // The fine labels of "other" (other_labels.knn), scored on the validation segments' "other" voxels.
+  nlohmann::json o;
+  o["train_rows"] = summary.other_train_rows;
+  o["val_rows"] = summary.other_val_rows;
+  o["val_voxels"] = {{"global_accuracy", std::round(1e4 * summary.other_val_voxels.GlobalAccuracy()) / 1e4},
+                     {"average_recall", std::round(1e4 * summary.other_val_voxels.AverageRecall()) / 1e4}};
+  for (int id = 1; id < kNumNyu40; ++id) {
+    const double r = summary.other_val_voxels.Recall(id);
+    if (!std::isnan(r)) o["val_voxels"]["recall"][Nyu40Labels()[size_t(id)].name] = std::round(1e4 * r) / 1e4;
+  }
+  j["other_labels"] = o;
   std::printf("%s", summary.ToText(level).c_str());
   return j;
 }

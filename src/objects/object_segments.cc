@@ -398,7 +398,10 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
       }
     wall.swap(grown);
   }
-  const std::vector<float> wall_distance = WallDistance(wall, d[0], d[1], res);
+  out.wall_distance = WallDistance(wall, d[0], d[1], res);
+  out.floor_z = floor_z;
+  out.top_z = top_z;
+  const std::vector<float>& wall_distance = out.wall_distance;
   for (size_t i = 0; i < grid.size(); ++i) {
     if (grid.state(i) != VoxelState::kOccupied) continue;
     const auto c = grid.Cell(i);
@@ -503,6 +506,12 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
     out.segments.push_back(std::move(seg));
   }
   return out;
+}
+
+std::array<float, kNumSegmentFeatures> DescribeVoxels(const VoxelGrid& grid, const std::vector<uint32_t>& voxels,
+                                                      const SegmentationResult& seg) {
+  if (voxels.empty() || seg.wall_distance.size() != size_t(grid.dims()[0]) * size_t(grid.dims()[1])) return {};
+  return Describe(grid, voxels, seg.floor_z, seg.top_z, seg.wall_distance);
 }
 
 }  // namespace semvox

@@ -95,11 +95,20 @@ struct ObjectSegment {
 struct SegmentationResult {
   std::vector<ObjectSegment> segments;
   std::vector<uint8_t> structure;  // Per VoxelGrid index: 1 floor, 2 ceiling, 3 wall, 0 otherwise.
+  // What the features are measured against: per (x, y) column (x fastest), the distance to the nearest wall
+  // column in metres; the floor height and the ceiling (or the scan's top).
+  std::vector<float> wall_distance;
+  double floor_z = 0, top_z = 0;
 };
 
 // Structure, segments and their features. Deterministic (segments in ascending order of first voxel).
 SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double ceiling_z, bool ceiling_found,
                                   const SegmentOptions& options);
+
+// The features of any set of occupied voxels of `grid` (grid indices), measured as SegmentObjects measures
+// its segments against `seg` (SegmentObjects(grid, ...)'s result); kSegNeighbourRise is left 0.
+std::array<float, kNumSegmentFeatures> DescribeVoxels(const VoxelGrid& grid, const std::vector<uint32_t>& voxels,
+                                                      const SegmentationResult& seg);
 
 // Names of the features, for reports.
 const char* SegmentFeatureName(int f);

@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 
+#include "core/labels.h"
 #include "eval/evaluate.h"
 #include "mapping/voxelizer.h"
 #include "scenegen/apartment.h"
@@ -24,11 +25,22 @@ std::string SegmentTrainingSummary::ToText(const LabelLevel& level) const {
     std::snprintf(buf, sizeof(buf), "  %-16s recall %.3f\n", level.class_names[size_t(c)].c_str(), r);
     s += buf;
   }
+  if (other_train_rows > 0) {
+    std::snprintf(buf, sizeof(buf), "other labels: %d training, %d validation rows; validation voxels %.3f, average %.3f\n", other_train_rows,
+                  other_val_rows, other_val_voxels.GlobalAccuracy(), other_val_voxels.AverageRecall());
+    s += buf;
+    for (int id = 1; id < kNumNyu40; ++id) {
+      const double r = other_val_voxels.Recall(id);
+      if (std::isnan(r)) continue;
+      std::snprintf(buf, sizeof(buf), "  %-16s recall %.3f\n", Nyu40Labels()[size_t(id)].name, r);
+      s += buf;
+    }
+  }
   return s;
 }
 
 Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, std::vector<float>* features,
-                        std::vector<int>* classes, std::vector<int>* voxels) {
+                        std::vector<int>* classes, std::vector<int>* voxels, OtherRows* other) {
   ApartmentOptions ao;
   ao.seed = seed;
   ao.shape_variety = options.scans.style == TrainingStyle::kRandomised;
@@ -45,6 +57,23 @@ Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, st
   const VoxelLabels truth = VoxelizeLabeledMesh(apartment->mesh, options.voxel_size_m);
   const LabelLevel level = SecondLevel();
   for (const ObjectSegment& s : seg.segments) {
+    if (other) {
+      std::vector<uint32_t> mine;
+      std::map<int, int> ids;
+      for (uint32_t v : s.voxels) {
+        const auto c = map->grid.Cell(v);
+        const auto it = truth.find(map->grid.KeyOf(c[0], c[1], c[2]).Pack());
+        if (it == truth.end() || !IsOtherNyu40(it->second)) continue;
+        mine.push_back(v);
+        ++ids[it->second];
+      }
+      if (int(mine.size()) >= options.other_min_voxels) {
+        const OtherFeatureVector f = OtherFeatures(map->grid, seg, s, mine);
+        other->features.insert(other->features.end(), f.begin(), f.end());
+        other->ids.push_back(std::max_element(ids.begin(), ids.end(), [](const auto& a, const auto& b) { return a.second < b.second; })->first);
+        other->voxels.push_back(int(mine.size()));
+      }
+    }
     std::map<int, int> votes;
     int labelled = 0;
     for (uint32_t v : s.voxels) {
@@ -66,13 +95,25 @@ Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, st
   return Status::Ok();
 }
 
-Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary) {
+Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary,
+                                                 std::optional<OtherLabeller>* other) {
   const auto t0 = std::chrono::steady_clock::now();
   const LabelLevel level = SecondLevel();
   std::vector<float> features;
   std::vector<int> classes, voxels;
-  for (uint64_t seed : options.train_seeds) SEMVOX_RETURN_IF_ERROR(LabelledSegments(seed, options, &features, &classes, &voxels));
+  OtherRows other_rows;
+  for (uint64_t seed : options.train_seeds)
+    SEMVOX_RETURN_IF_ERROR(LabelledSegments(seed, options, &features, &classes, &voxels, other ? &other_rows : nullptr));
   if (classes.empty()) return Status::InvalidInput("object segments: no labelled training segment");
+  SegmentTrainingSummary s;
+  if (other) {
+    if (other_rows.ids.empty()) return Status::InvalidInput("other labels: no training segment holds an \"other\" object");
+    s.other_train_rows = int(other_rows.ids.size());
+    Result<KnnClassifier> knn = KnnClassifier::Train(std::move(other_rows.features), kNumOtherFeatures, other_rows.ids, kNumNyu40, options.knn);
+    if (!knn.ok()) return knn.status();
+    other->emplace(std::move(knn).value());
+    s.other_val_voxels = ConfusionMatrix(kNumNyu40);
+  }
   std::optional<SegmentClassifier> clf;
   if (options.classifier == SegmentClassifierKind::kForest) {
     Result<RandomForest> rf = RandomForest::Train(features, kNumSegmentFeatures, classes, level.num_classes(), options.forest);
@@ -83,14 +124,19 @@ Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& o
     if (!knn.ok()) return knn.status();
     clf.emplace(std::move(knn).value());
   }
-  SegmentTrainingSummary s;
   s.train_segments = int(classes.size());
   s.val_voxels = ConfusionMatrix(level.num_classes());
   int correct = 0;
   for (uint64_t seed : options.val_seeds) {
     std::vector<float> vf;
     std::vector<int> vc, vv;
-    SEMVOX_RETURN_IF_ERROR(LabelledSegments(seed, options, &vf, &vc, &vv));
+    OtherRows vo;
+    SEMVOX_RETURN_IF_ERROR(LabelledSegments(seed, options, &vf, &vc, &vv, other ? &vo : nullptr));
+    for (size_t i = 0; i < vo.ids.size(); ++i) {
+      const int id = (*other)->Label({vo.features.data() + i * kNumOtherFeatures, size_t(kNumOtherFeatures)});
+      for (int k = 0; k < vo.voxels[i]; ++k) s.other_val_voxels.Add(vo.ids[i], id);
+      ++s.other_val_rows;
+    }
     for (size_t i = 0; i < vc.size(); ++i) {
       const std::vector<double> p = clf->Probabilities({vf.data() + i * kNumSegmentFeatures, size_t(kNumSegmentFeatures)});
       const int best = int(std::max_element(p.begin(), p.end()) - p.begin());

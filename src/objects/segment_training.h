@@ -12,14 +12,20 @@
 // label). The k-NN (k = 10, Eq. 4 of the MST-CRF paper, standardised features) or the random forest
 // (`classifier`) learns from the training segments; the summary scores it on the validation segments,
 // voxel-weighted.
+//
+// The same scans teach the fine labels of the "other" class (objects/other_labels.h): every segment holding
+// at least `other_min_voxels` voxels whose ground truth is an "other" id (pillow, box, lamp, ...) gives a
+// row of OtherFeatures over those voxels, labelled with their most frequent id.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/status.h"
 #include "objects/object_segments.h"
+#include "objects/other_labels.h"
 #include "objects/random_forest.h"
 #include "objects/segment_classifier.h"
 #include "perception/knn_unary.h"
@@ -39,6 +45,7 @@ struct SegmentTrainingOptions {
   SegmentOptions segments;
   double voxel_size_m = 0.05;       // As `semvox run`'s default. > 0.
   double min_purity = 0.5;          // (0, 1].
+  int other_min_voxels = kOtherMinVoxels;  // >= 1.
   SegmentClassifierKind classifier = SegmentClassifierKind::kKnn;
   KnnOptions knn;                   // For kKnn.
   RandomForestOptions forest;       // For kForest.
@@ -49,14 +56,25 @@ struct SegmentTrainingSummary {
   ConfusionMatrix val_voxels;       // Second-level classes, each segment's voxels counted with its predicted class.
   double val_segment_accuracy = 0;  // Share of validation segments whose argmax is their class.
   double seconds = 0;
+  // The fine labels of "other" (when trained): rows, and the validation rows' voxels per NYU40 id.
+  int other_train_rows = 0, other_val_rows = 0;
+  ConfusionMatrix other_val_voxels;
   std::string ToText(const LabelLevel& level) const;
 };
 
-// The labelled segments of one apartment: features (kNumSegmentFeatures per row), second-level classes
-// and voxel counts per row.
-Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, std::vector<float>* features,
-                        std::vector<int>* classes, std::vector<int>* voxels);
+// Rows of the "other" labeller: kNumOtherFeatures values per row, NYU40 ids, voxel counts.
+struct OtherRows {
+  std::vector<float> features;
+  std::vector<int> ids, voxels;
+};
 
-Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary);
+// The labelled segments of one apartment: features (kNumSegmentFeatures per row), second-level classes
+// and voxel counts per row; and, when `other` is given, the rows of the "other" labeller.
+Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, std::vector<float>* features,
+                        std::vector<int>* classes, std::vector<int>* voxels, OtherRows* other = nullptr);
+
+// The segment classifier; with `other`, also the "other" labeller from the same scans (k-NN, options.knn).
+Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary,
+                                                 std::optional<OtherLabeller>* other = nullptr);
 
 }  // namespace semvox

@@ -14,6 +14,7 @@
 #include "io/load_scene.h"
 #include "mapping/octomap_io.h"
 #include "mapping/outliers.h"
+#include "objects/other_labels.h"
 #include "objects/support_stage.h"
 #include "pipeline/onnx_stage.h"
 #include "pipeline/semantic_exports.h"
@@ -239,6 +240,8 @@ Result<PipelineResult> RunPipeline(const std::string& input, const PipelineOptio
     semantic.reset();
     r.labels.emplace();
     SEMVOX_RETURN_IF_ERROR(SolveSemantic(map, *r.evidence, r.models->crf, config.semantic.crf, &*r.labels));
+    if (config.semantic.other_labels && r.models->other)
+      ApplyOtherLabels(map, *r.evidence, r.models->crf, *r.models->other, kOtherMinVoxels, &*r.labels);
     if (config.semantic.wall_openings) ApplyWallOpenings(map, WallOpeningOptions{}, &*r.labels);
     clock.AddTo(&r.seconds, "voxel_crf");
     progress.End();

@@ -12,6 +12,7 @@
 #include "core/file_util.h"
 #include "core/log.h"
 #include "objects/object_segments.h"
+#include "objects/other_labels.h"
 #include "objects/segment_classifier.h"
 #include "perception/classifier_views.h"
 #include "perception/knn_unary.h"
@@ -48,6 +49,14 @@ Result<SemanticModels> SemanticModels::Load(const std::string& models_dir, Voxel
     m.segments = std::make_shared<const SegmentClassifier>(std::move(**seg));
   } else {
     SEMVOX_WARN(models_dir << "/object_segments.knn: not found; the Voxel-CRF runs without the object-segment term (run `semvox train`)");
+  }
+  const std::string other_path = models_dir + "/" + kOtherLabellerFile;
+  if (fs::exists(other_path, ec)) {
+    Result<OtherLabeller> other = OtherLabeller::Load(other_path);
+    if (!other.ok()) return other.status();
+    m.other = std::make_shared<const OtherLabeller>(std::move(other).value());
+  } else {
+    SEMVOX_WARN(other_path << ": not found; every voxel labelled \"other\" gets one NYU40 id (run `semvox train --segments`)");
   }
   std::string model_path = models_dir + "/voxel_crf.txt";
   if (crf_model == VoxelCrfModelChoice::kCloud) {
@@ -287,10 +296,14 @@ SemanticEvidence SemanticEvidenceBuilder::Finish() && {
   Impl& s = *impl_;
   s.out.voxels = std::move(*s.acc).Finish();
   s.acc.reset();
-  if (!s.models->segments) return std::move(s.out);
+  if (!s.models->segments && !s.models->other) return std::move(s.out);
   // Object segments of the map, classified by shape: their probabilities on the segments' CRF nodes.
   const auto t0 = Clock::now();
-  const SegmentationResult seg = SegmentObjects(s.map->grid, s.map->floor_z, s.map->ceiling_z, s.map->ceiling_found, SegmentOptions{});
+  auto segmentation = std::make_shared<SegmentationResult>(
+      SegmentObjects(s.map->grid, s.map->floor_z, s.map->ceiling_z, s.map->ceiling_found, SegmentOptions{}));
+  s.out.segmentation = segmentation;
+  if (!s.models->segments) return std::move(s.out);
+  const SegmentationResult& seg = *segmentation;
   const int K = s.models->level.num_classes();
   s.out.voxels.segment.assign(s.out.nodes.size() * size_t(K), 0.f);
   std::vector<std::vector<double>> p(seg.segments.size());

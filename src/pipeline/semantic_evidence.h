@@ -35,6 +35,8 @@ struct ViewClassification;  // perception/view_classifier.h
 class ViewClassifier;       // perception/view_classifier.h
 class KnnClassifier;        // perception/knn_unary.h
 class SegmentClassifier;    // objects/segment_classifier.h
+class OtherLabeller;        // objects/other_labels.h
+struct SegmentationResult;  // objects/object_segments.h
 struct OnnxModels;          // pipeline/onnx_stage.h
 
 // The model files of the semantic stage.
@@ -43,6 +45,7 @@ struct SemanticModels {
   std::shared_ptr<const ViewClassifier> classifier;   // second.*
   std::shared_ptr<const KnnClassifier> room_knn;      // room_type_knn.bin
   std::shared_ptr<const SegmentClassifier> segments;   // object_segments.forest or .knn; null when absent (no segment term).
+  std::shared_ptr<const OtherLabeller> other;          // other_labels.knn; null when absent ("other" keeps one id).
   VoxelCrfModel crf;                                   // voxel_crf.txt or voxel_crf_cloud.txt, else untrained defaults.
   std::string crf_file;                                // File name of the loaded CRF model; "" for the defaults.
 
@@ -60,6 +63,8 @@ struct SemanticEvidence {
   int classification_views = 0, skipped_views = 0;
   int hooked_views = 0;                                // Classified views the view hook saw.
   int num_segments = -1;                               // Object segments classified; -1 without a segment model.
+  // The object segments (with either model), for the fine labels of "other" after the CRF; null without.
+  std::shared_ptr<const SegmentationResult> segmentation;
   // Their voxels, and those of the segments shaped unlike every training segment (SegmentClassifier::
   // Unfamiliarity above 1; the k-NN only, else -1), and that many segments.
   int64_t segment_voxels = 0, unfamiliar_segment_voxels = -1;

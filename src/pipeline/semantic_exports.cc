@@ -92,6 +92,9 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
                                   {"unfamiliar_segments", evidence.unfamiliar_segments},
                                   {"familiar_distance", evidence.familiar_distance}};
   }
+  if (options.other_labels)
+    j["other_labels"] = models.other ? nlohmann::ordered_json{{"segments", labels.other_segments}, {"voxels", labels.other_voxels}}
+                                     : nlohmann::ordered_json("no model");
   j["occupied_voxels"] = labels.map.occupied.size();
   j["completed_voxels"] = labels.map.completed_count();
   nlohmann::ordered_json hist = nlohmann::ordered_json::object();
@@ -101,7 +104,8 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
   j["seconds"] = {{"depth_evidence", evidence.seconds_depth}, {"view_selection", evidence.seconds_selection}, {"classify", evidence.seconds_classify}, {"crf", labels.crf.seconds},
                   {"crf_planes", labels.crf.seconds_planes}, {"crf_ray_starts", labels.crf.seconds_ray_starts},
                   {"crf_confidence", labels.crf.seconds_confidence}, {"object_segments", evidence.seconds_segments},
-                  {"solve_total", labels.seconds}, {"wall_openings", labels.seconds_openings}};
+                  {"solve_total", labels.seconds}, {"wall_openings", labels.seconds_openings},
+                  {"other_labels", labels.seconds_other}};
   j["files"] = {"voxels.ply", "map.ot", "semantic_topview.png", "semantic_topview_labels.png"};
   return j;
 }

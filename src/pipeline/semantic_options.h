@@ -60,6 +60,9 @@ struct SemanticStageOptions {
   // Doors and windows found in the walls by their shape (objects/wall_openings.h) relabel the wall voxels
   // of their pane or closed leaf, and their open leaf, after the Voxel-CRF.
   bool wall_openings = true;
+  // The voxels of an object segment that came out "other" get one NYU40 id (pillow, box, lamp, ...) from
+  // their shape (objects/other_labels.h, models/other_labels.knn), after the Voxel-CRF.
+  bool other_labels = true;
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
@@ -89,6 +92,10 @@ struct SemanticStageOptions {
             OptionSwitch(&O::wall_openings, "wall_openings",
                          "after the Voxel-CRF, doors and windows found in the walls by their shape (a rectangle "
                          "recessed or open in a wall, framed by it) relabel the wall voxels of their pane or leaf"),
+            OptionSwitch(&O::other_labels, "other_labels",
+                         "after the Voxel-CRF, the voxels of an object segment labelled \"other\" get the NYU40 "
+                         "id their shape says (pillow, box, bag, lamp, television, night stand, ...; "
+                         "models/other_labels.knn); off: every \"other\" voxel gets the one id the CRF model names"),
             OptionNumber(&O::classify_width, "classify_width", 16, 4096, "pixels",
                          "classification view width (the shipped classifiers are trained at 320)"),
             OptionNumber(&O::classify_height, "classify_height", 16, 4096, "pixels",

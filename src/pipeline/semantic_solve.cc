@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <chrono>
 
+#include <tbb/parallel_for.h>
+
 #include "core/labels.h"
 #include "core/log.h"
+#include "objects/object_segments.h"
+#include "objects/other_labels.h"
 
 namespace semvox {
 
@@ -20,6 +24,44 @@ Status SolveSemantic(const VoxelMap& map, const SemanticEvidence& evidence, cons
                             << " completed), " << s.crf.num_planes << " planes, " << s.crf.num_object_cliques
                             << " object cliques, " << s.crf.iterations.size() << " iterations, " << s.seconds << " s");
   return Status::Ok();
+}
+
+void ApplyOtherLabels(const VoxelMap& map, const SemanticEvidence& evidence, const VoxelCrfModel& model,
+                      const OtherLabeller& labeller, int min_voxels, SemanticLabels* labels) {
+  const auto t0 = std::chrono::steady_clock::now();
+  labels->other_segments = 0;
+  labels->other_voxels = 0;
+  int other_id = -1;
+  for (int k = 0; k < model.num_classes(); ++k)
+    if (model.class_names[size_t(k)] == "other") other_id = model.nyu40_of_class[size_t(k)];
+  if (!evidence.segmentation || other_id <= 0) return;
+  const SegmentationResult& seg = *evidence.segmentation;
+  std::vector<SemanticVoxelRecord>& occupied = labels->map.occupied;  // Ascending voxel index.
+  auto record = [&](uint32_t v) -> SemanticVoxelRecord* {
+    const auto it = std::lower_bound(occupied.begin(), occupied.end(), v, [](const SemanticVoxelRecord& r, uint32_t x) { return r.voxel < x; });
+    return it == occupied.end() || it->voxel != v ? nullptr : &*it;
+  };
+  // Each segment's "other" voxels and their features (in parallel: the k-NN search), then the labels in
+  // segment order.
+  std::vector<std::vector<SemanticVoxelRecord*>> mine(seg.segments.size());
+  std::vector<int> id(seg.segments.size(), 0);
+  tbb::parallel_for(size_t(0), seg.segments.size(), [&](size_t i) {
+    std::vector<uint32_t> voxels;
+    for (uint32_t v : seg.segments[i].voxels)
+      if (SemanticVoxelRecord* r = record(v); r && r->label == other_id) mine[i].push_back(r), voxels.push_back(v);
+    if (int(voxels.size()) < min_voxels) return;
+    const OtherFeatureVector f = OtherFeatures(map.grid, seg, seg.segments[i], voxels);
+    id[i] = labeller.Label({f.data(), f.size()});
+  });
+  for (size_t i = 0; i < seg.segments.size(); ++i) {
+    if (id[i] <= 0) continue;
+    for (SemanticVoxelRecord* r : mine[i]) r->label = uint16_t(id[i]);
+    ++labels->other_segments;
+    labels->other_voxels += mine[i].size();
+  }
+  labels->seconds_other = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  SEMVOX_INFO("other labels: " << labels->other_voxels << " voxels of " << labels->other_segments << " segments labelled by shape, "
+                               << labels->seconds_other << " s");
 }
 
 void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, SemanticLabels* labels) {

@@ -22,12 +22,21 @@ struct SemanticLabels {
   std::vector<WallOpening> openings;  // ApplyWallOpenings.
   size_t opening_voxels = 0;          // Voxels it relabelled.
   double seconds_openings = 0;
+  int other_segments = 0;             // ApplyOtherLabels: segments whose "other" voxels got a fine id,
+  size_t other_voxels = 0;            // and those voxels.
+  double seconds_other = 0;
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
 // options (the CRF variants of bench/voxelcrf_bench.cc) over the same evidence.
 Status SolveSemantic(const VoxelMap& map, const SemanticEvidence& evidence, const VoxelCrfModel& model,
                      const VoxelCrfOptions& options, SemanticLabels* labels);
+
+// The voxels of each object segment of `evidence` that came out "other" (the id `model` writes for it) take
+// the NYU40 id `labeller` gives them (objects/other_labels.h). Segments with fewer than `min_voxels` such
+// voxels, and "other" voxels outside every segment, keep the model's id. Needs evidence.segmentation.
+void ApplyOtherLabels(const VoxelMap& map, const SemanticEvidence& evidence, const VoxelCrfModel& model,
+                      const OtherLabeller& labeller, int min_voxels, SemanticLabels* labels);
 
 // Doors and windows of the map's walls (objects/wall_openings.h) relabel the labelled voxels of their pane or
 // closed leaf that came out wall, door or window, and every voxel of an open leaf but floor and ceiling.
