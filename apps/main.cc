@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--max-rows", train.max_rows, "training rows kept per k-NN model, 0 = all")->check(CLI::NonNegativeNumber);
   train_cmd->add_option("--crf-holdout", train.crf_holdout, "last training seeds used only to learn the CRF weights")->check(CLI::NonNegativeNumber);
   train_cmd->add_flag("--voxel-crf", train.voxel_crf_only, "train only the Voxel-CRF (per-view models must already be in the output directory)");
-  train_cmd->add_flag("--segments", train.segments_only, "train only the object-segment classifier and the \"other\" labeller (object_segments.knn, other_labels.knn)");
+  train_cmd->add_flag("--segments", train.segments_only, "train only the object-segment classifier and the \"other\" and item labellers (object_segments.knn, other_labels.knn, item_labels.knn)");
   train_cmd->add_flag("--room-shapes", train.room_shapes_only,
                       "train only the room-shape model (room_shape.json) on real R2V plans 0-299, validated on 300-399");
   train_cmd->add_flag("--room-type-statistics", train.room_type_statistics_only,

@@ -119,8 +119,8 @@ Status ForEachSegmentedView(uint64_t seed, const TrainingViewsOptions& views, co
 }
 
 // The object-segment classifier on randomised scans of --segment-seeds, scored on val_seeds; writes
-// OUT/object_segments.knn (or .forest, --segment-classifier) and the "other" labeller OUT/other_labels.knn from
-// the same scans, and returns the report's JSON.
+// OUT/object_segments.knn (or .forest, --segment-classifier), and the "other" and item labellers
+// OUT/other_labels.knn and OUT/item_labels.knn from the same scans, and returns the report's JSON.
 Result<nlohmann::json> TrainSegments(const TrainArgs& args, const std::vector<uint64_t>& val_seeds, const LabelLevel& level) {
   SegmentTrainingOptions so;
   SEMVOX_RETURN_IF_ERROR(ParseSeedList(args.segment_seeds, "--segment-seeds", &so.train_seeds));
@@ -130,10 +130,12 @@ Result<nlohmann::json> TrainSegments(const TrainArgs& args, const std::vector<ui
     return Status::InvalidInput("--segment-classifier: expected knn or forest, got '" + args.segment_classifier + "'");
   SegmentTrainingSummary summary;
   std::optional<OtherLabeller> other;
-  Result<SegmentClassifier> seg = TrainSegmentClassifier(so, &summary, &other);
+  std::optional<ItemLabeller> items;
+  Result<SegmentClassifier> seg = TrainSegmentClassifier(so, &summary, &other, &items);
   if (!seg.ok()) return seg.status();
   SEMVOX_RETURN_IF_ERROR(seg->SaveToDirectory(args.outdir));
   SEMVOX_RETURN_IF_ERROR(other->Save(args.outdir + "/" + kOtherLabellerFile));
+  SEMVOX_RETURN_IF_ERROR(items->Save(args.outdir + "/" + kItemLabellerFile));
   nlohmann::json j;
   j["seeds"] = args.segment_seeds;
   j["classifier"] = SegmentClassifierKindName(so.classifier);
@@ -152,6 +154,16 @@ Result<nlohmann::json> TrainSegments(const TrainArgs& args, const std::vector<ui
     if (!std::isnan(r)) o["val_voxels"]["recall"][Nyu40Labels()[size_t(id)].name] = std::round(1e4 * r) / 1e4;
   }
   j["other_labels"] = o;
+  // The items on top (item_labels.knn): class 0 is "part of the furniture".
+  nlohmann::json it;
+  it["train_rows"] = summary.item_train_rows;
+  it["val_rows"] = summary.item_val_rows;
+  it["val_voxels_right"] = std::round(1e4 * summary.item_val_voxels.GlobalAccuracy()) / 1e4;
+  for (int id = 0; id < kNumNyu40; ++id) {
+    const double r = summary.item_val_voxels.Recall(id);
+    if (!std::isnan(r)) it["val_recall"][id == 0 ? "part of the furniture" : Nyu40Labels()[size_t(id)].name] = std::round(1e4 * r) / 1e4;
+  }
+  j["item_labels"] = it;
   std::printf("%s", summary.ToText(level).c_str());
   return j;
 }

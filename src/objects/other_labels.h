@@ -76,4 +76,41 @@ inline constexpr int kOtherMinVoxels = 4;
 // The model's file name in a models directory.
 inline constexpr const char* kOtherLabellerFile = "other_labels.knn";
 
+// Items on top of a segment: its voxels above its top surface (the layer kSegTopSurface names), in
+// 26-connected groups of at least `min_voxels` (grid indices, ascending; groups in order of first voxel). A
+// pillow or clothes on a bed, books or paper on a table, a sink or a hob on a counter, a lamp on a night stand,
+// a television on a cabinet; and parts of the furniture itself: a headboard, a sofa's back, a desk's shelf.
+std::vector<std::vector<uint32_t>> ItemsOnTop(const VoxelGrid& grid, const SegmentationResult& segments, const ObjectSegment& segment,
+                                              int min_voxels);
+
+// Which items on top are objects of their own: a k-NN over OtherFeatures of the group (class 0: part of the
+// segment's own object; else the item's NYU40 id), decided by the plain majority of the k nearest training
+// groups (ties: 0). Eq. 4's class-frequency normalisation is not used here: it would favour the rare item
+// classes over "part of the furniture", the most frequent answer. A group unlike every training group (its
+// mean distance to the k nearest over the 0.99-quantile of the training groups' own, as
+// SegmentClassifier::Unfamiliarity) stays part of its furniture: on the sparse ScanNet studio one "bed"
+// segment spans the bed, the sofa and the floor between them, and what lies on it is no object the
+// training scenes show.
+class ItemLabeller {
+ public:
+  explicit ItemLabeller(KnnClassifier knn);
+  ItemLabeller(ItemLabeller&&) noexcept;
+  ItemLabeller& operator=(ItemLabeller&&) noexcept;
+  ~ItemLabeller();
+
+  // 0 (part of the furniture, or unfamiliar) or an NYU40 id.
+  int Label(std::span<const float> features) const;
+  const KnnClassifier& knn() const { return *knn_; }
+  double familiar_distance() const { return familiar_distance_; }
+
+  Status Save(const std::string& path) const;  // Atomic.
+  static Result<ItemLabeller> Load(const std::string& path);
+
+ private:
+  std::unique_ptr<KnnClassifier> knn_;
+  double familiar_distance_;
+};
+
+inline constexpr const char* kItemLabellerFile = "item_labels.knn";
+
 }  // namespace semvox

@@ -25,6 +25,21 @@ std::string SegmentTrainingSummary::ToText(const LabelLevel& level) const {
     std::snprintf(buf, sizeof(buf), "  %-16s recall %.3f\n", level.class_names[size_t(c)].c_str(), r);
     s += buf;
   }
+  if (item_train_rows > 0) {
+    // Items: the share of voxels in groups that are objects of their own given their id, and of those in
+    // groups given an id that are that object.
+    int64_t items_true = 0, items_right = 0, called = 0, called_right = 0;
+    for (int t = 0; t < item_val_voxels.m; ++t)
+      for (int p = 0; p < item_val_voxels.m; ++p) {
+        const int64_t n = item_val_voxels.counts[size_t(t) * size_t(item_val_voxels.m) + size_t(p)];
+        if (t > 0) items_true += n, items_right += t == p ? n : 0;
+        if (p > 0) called += n, called_right += t == p ? n : 0;
+      }
+    std::snprintf(buf, sizeof(buf), "items on top: %d training, %d validation groups; voxels right %.3f, item recall %.3f, precision %.3f\n",
+                  item_train_rows, item_val_rows, item_val_voxels.GlobalAccuracy(), items_true ? double(items_right) / double(items_true) : 0.0,
+                  called ? double(called_right) / double(called) : 0.0);
+    s += buf;
+  }
   if (other_train_rows > 0) {
     std::snprintf(buf, sizeof(buf), "other labels: %d training, %d validation rows; validation voxels %.3f, average %.3f\n", other_train_rows,
                   other_val_rows, other_val_voxels.GlobalAccuracy(), other_val_voxels.AverageRecall());
@@ -40,7 +55,7 @@ std::string SegmentTrainingSummary::ToText(const LabelLevel& level) const {
 }
 
 Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, std::vector<float>* features,
-                        std::vector<int>* classes, std::vector<int>* voxels, OtherRows* other) {
+                        std::vector<int>* classes, std::vector<int>* voxels, OtherRows* other, OtherRows* items) {
   ApartmentOptions ao;
   ao.seed = seed;
   ao.shape_variety = options.scans.style == TrainingStyle::kRandomised;
@@ -74,6 +89,33 @@ Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, st
         other->voxels.push_back(int(mine.size()));
       }
     }
+    if (items) {
+      // Each item on top against the rest of its segment, by their most frequent ground-truth ids.
+      auto id_of = [&](uint32_t v) {
+        const auto c = map->grid.Cell(v);
+        const auto it = truth.find(map->grid.KeyOf(c[0], c[1], c[2]).Pack());
+        return it == truth.end() || it->second <= 0 || it->second >= kNumNyu40 ? 0 : it->second;
+      };
+      auto majority = [](const std::map<int, int>& m) {
+        return std::max_element(m.begin(), m.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+      };
+      for (const std::vector<uint32_t>& group : ItemsOnTop(map->grid, seg, s, options.other_min_voxels)) {
+        std::map<int, int> in, rest;
+        int labelled_in = 0;
+        for (uint32_t v : group)
+          if (const int id = id_of(v)) ++in[id], ++labelled_in;
+        for (uint32_t v : s.voxels)
+          if (!std::binary_search(group.begin(), group.end(), v))
+            if (const int id = id_of(v)) ++rest[id];
+        if (labelled_in * 2 < int(group.size())) continue;
+        const int item = majority(in)->first;
+        const int cls = !rest.empty() && majority(rest)->first == item ? 0 : item;
+        const OtherFeatureVector f = OtherFeatures(map->grid, seg, s, group);
+        items->features.insert(items->features.end(), f.begin(), f.end());
+        items->ids.push_back(cls);
+        items->voxels.push_back(int(group.size()));
+      }
+    }
     std::map<int, int> votes;
     int labelled = 0;
     for (uint32_t v : s.voxels) {
@@ -96,14 +138,15 @@ Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, st
 }
 
 Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary,
-                                                 std::optional<OtherLabeller>* other) {
+                                                 std::optional<OtherLabeller>* other, std::optional<ItemLabeller>* items) {
   const auto t0 = std::chrono::steady_clock::now();
   const LabelLevel level = SecondLevel();
   std::vector<float> features;
   std::vector<int> classes, voxels;
-  OtherRows other_rows;
+  OtherRows other_rows, item_rows;
   for (uint64_t seed : options.train_seeds)
-    SEMVOX_RETURN_IF_ERROR(LabelledSegments(seed, options, &features, &classes, &voxels, other ? &other_rows : nullptr));
+    SEMVOX_RETURN_IF_ERROR(
+        LabelledSegments(seed, options, &features, &classes, &voxels, other ? &other_rows : nullptr, items ? &item_rows : nullptr));
   if (classes.empty()) return Status::InvalidInput("object segments: no labelled training segment");
   SegmentTrainingSummary s;
   if (other) {
@@ -113,6 +156,14 @@ Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& o
     if (!knn.ok()) return knn.status();
     other->emplace(std::move(knn).value());
     s.other_val_voxels = ConfusionMatrix(kNumNyu40);
+  }
+  if (items) {
+    if (item_rows.ids.empty()) return Status::InvalidInput("items on top: no training segment has any");
+    s.item_train_rows = int(item_rows.ids.size());
+    Result<KnnClassifier> knn = KnnClassifier::Train(std::move(item_rows.features), kNumOtherFeatures, item_rows.ids, kNumNyu40, options.knn);
+    if (!knn.ok()) return knn.status();
+    items->emplace(std::move(knn).value());
+    s.item_val_voxels = ConfusionMatrix(kNumNyu40);
   }
   std::optional<SegmentClassifier> clf;
   if (options.classifier == SegmentClassifierKind::kForest) {
@@ -130,8 +181,13 @@ Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& o
   for (uint64_t seed : options.val_seeds) {
     std::vector<float> vf;
     std::vector<int> vc, vv;
-    OtherRows vo;
-    SEMVOX_RETURN_IF_ERROR(LabelledSegments(seed, options, &vf, &vc, &vv, other ? &vo : nullptr));
+    OtherRows vo, vi;
+    SEMVOX_RETURN_IF_ERROR(LabelledSegments(seed, options, &vf, &vc, &vv, other ? &vo : nullptr, items ? &vi : nullptr));
+    for (size_t i = 0; i < vi.ids.size(); ++i) {
+      const int id = (*items)->Label({vi.features.data() + i * kNumOtherFeatures, size_t(kNumOtherFeatures)});
+      for (int k = 0; k < vi.voxels[i]; ++k) s.item_val_voxels.Add(vi.ids[i], id);
+      ++s.item_val_rows;
+    }
     for (size_t i = 0; i < vo.ids.size(); ++i) {
       const int id = (*other)->Label({vo.features.data() + i * kNumOtherFeatures, size_t(kNumOtherFeatures)});
       for (int k = 0; k < vo.voxels[i]; ++k) s.other_val_voxels.Add(vo.ids[i], id);

@@ -15,7 +15,10 @@
 //
 // The same scans teach the fine labels of the "other" class (objects/other_labels.h): every segment holding
 // at least `other_min_voxels` voxels whose ground truth is an "other" id (pillow, box, lamp, ...) gives a
-// row of OtherFeatures over those voxels, labelled with their most frequent id.
+// row of OtherFeatures over those voxels, labelled with their most frequent id. And they teach which items on
+// top of a segment (other_labels.h, ItemsOnTop) are objects of their own: a group whose most frequent id
+// (over at least half its voxels) differs from that of the rest of its segment is a row of that id; one
+// that shares it is a row of class 0 (part of the furniture).
 #pragma once
 
 #include <cstdint>
@@ -59,22 +62,29 @@ struct SegmentTrainingSummary {
   // The fine labels of "other" (when trained): rows, and the validation rows' voxels per NYU40 id.
   int other_train_rows = 0, other_val_rows = 0;
   ConfusionMatrix other_val_voxels;
+  // The items on top (when trained): rows, and the validation groups' voxels, class 0 or NYU40 id.
+  int item_train_rows = 0, item_val_rows = 0;
+  ConfusionMatrix item_val_voxels;
   std::string ToText(const LabelLevel& level) const;
 };
 
-// Rows of the "other" labeller: kNumOtherFeatures values per row, NYU40 ids, voxel counts.
+// Rows of the "other" and item labellers: kNumOtherFeatures values per row, NYU40 ids (items: 0 for part of
+// the furniture), voxel counts.
 struct OtherRows {
   std::vector<float> features;
   std::vector<int> ids, voxels;
 };
 
 // The labelled segments of one apartment: features (kNumSegmentFeatures per row), second-level classes
-// and voxel counts per row; and, when `other` is given, the rows of the "other" labeller.
+// and voxel counts per row; and, when `other` and `items` are given, the rows of the "other" and item
+// labellers.
 Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, std::vector<float>* features,
-                        std::vector<int>* classes, std::vector<int>* voxels, OtherRows* other = nullptr);
+                        std::vector<int>* classes, std::vector<int>* voxels, OtherRows* other = nullptr, OtherRows* items = nullptr);
 
-// The segment classifier; with `other`, also the "other" labeller from the same scans (k-NN, options.knn).
+// The segment classifier; with `other` and `items`, also the "other" and item labellers from the same scans
+// (k-NN, options.knn).
 Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& options, SegmentTrainingSummary* summary,
-                                                 std::optional<OtherLabeller>* other = nullptr);
+                                                 std::optional<OtherLabeller>* other = nullptr,
+                                                 std::optional<ItemLabeller>* items = nullptr);
 
 }  // namespace semvox

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <type_traits>
 
 #include "core/file_util.h"
 #include "core/log.h"
@@ -50,14 +51,21 @@ Result<SemanticModels> SemanticModels::Load(const std::string& models_dir, Voxel
   } else {
     SEMVOX_WARN(models_dir << "/object_segments.knn: not found; the Voxel-CRF runs without the object-segment term (run `semvox train`)");
   }
-  const std::string other_path = models_dir + "/" + kOtherLabellerFile;
-  if (fs::exists(other_path, ec)) {
-    Result<OtherLabeller> other = OtherLabeller::Load(other_path);
-    if (!other.ok()) return other.status();
-    m.other = std::make_shared<const OtherLabeller>(std::move(other).value());
-  } else {
-    SEMVOX_WARN(other_path << ": not found; every voxel labelled \"other\" gets one NYU40 id (run `semvox train --segments`)");
-  }
+  // An optional model: loaded when its file exists (a broken file is an error), else a warning saying what is lost.
+  auto load_optional = [&](const char* file, auto* out, const char* without) -> Status {
+    using Model = typename std::decay_t<decltype(*out)>::element_type;
+    const std::string path = models_dir + "/" + file;
+    if (!fs::exists(path, ec)) {
+      SEMVOX_WARN(path << ": not found; " << without << " (run `semvox train --segments`)");
+      return Status::Ok();
+    }
+    Result<std::remove_const_t<Model>> model = std::remove_const_t<Model>::Load(path);
+    if (!model.ok()) return model.status();
+    *out = std::make_shared<Model>(std::move(model).value());
+    return Status::Ok();
+  };
+  SEMVOX_RETURN_IF_ERROR(load_optional(kOtherLabellerFile, &m.other, "every voxel labelled \"other\" gets one NYU40 id"));
+  SEMVOX_RETURN_IF_ERROR(load_optional(kItemLabellerFile, &m.items, "what lies on furniture keeps the furniture's label"));
   std::string model_path = models_dir + "/voxel_crf.txt";
   if (crf_model == VoxelCrfModelChoice::kCloud) {
     const std::string cloud_path = models_dir + "/voxel_crf_cloud.txt";
@@ -296,7 +304,7 @@ SemanticEvidence SemanticEvidenceBuilder::Finish() && {
   Impl& s = *impl_;
   s.out.voxels = std::move(*s.acc).Finish();
   s.acc.reset();
-  if (!s.models->segments && !s.models->other) return std::move(s.out);
+  if (!s.models->segments && !s.models->other && !s.models->items) return std::move(s.out);
   // Object segments of the map, classified by shape: their probabilities on the segments' CRF nodes.
   const auto t0 = Clock::now();
   auto segmentation = std::make_shared<SegmentationResult>(

@@ -36,6 +36,7 @@ class ViewClassifier;       // perception/view_classifier.h
 class KnnClassifier;        // perception/knn_unary.h
 class SegmentClassifier;    // objects/segment_classifier.h
 class OtherLabeller;        // objects/other_labels.h
+class ItemLabeller;         // objects/other_labels.h
 struct SegmentationResult;  // objects/object_segments.h
 struct OnnxModels;          // pipeline/onnx_stage.h
 
@@ -46,6 +47,7 @@ struct SemanticModels {
   std::shared_ptr<const KnnClassifier> room_knn;      // room_type_knn.bin
   std::shared_ptr<const SegmentClassifier> segments;   // object_segments.forest or .knn; null when absent (no segment term).
   std::shared_ptr<const OtherLabeller> other;          // other_labels.knn; null when absent ("other" keeps one id).
+  std::shared_ptr<const ItemLabeller> items;           // item_labels.knn; null when absent (items on top stay furniture).
   VoxelCrfModel crf;                                   // voxel_crf.txt or voxel_crf_cloud.txt, else untrained defaults.
   std::string crf_file;                                // File name of the loaded CRF model; "" for the defaults.
 

@@ -95,6 +95,9 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
   if (options.other_labels)
     j["other_labels"] = models.other ? nlohmann::ordered_json{{"segments", labels.other_segments}, {"voxels", labels.other_voxels}}
                                      : nlohmann::ordered_json("no model");
+  if (options.item_labels)
+    j["item_labels"] = models.items ? nlohmann::ordered_json{{"items", labels.item_groups}, {"voxels", labels.item_voxels}}
+                                    : nlohmann::ordered_json("no model");
   j["occupied_voxels"] = labels.map.occupied.size();
   j["completed_voxels"] = labels.map.completed_count();
   nlohmann::ordered_json hist = nlohmann::ordered_json::object();
@@ -105,7 +108,8 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
                   {"crf_planes", labels.crf.seconds_planes}, {"crf_ray_starts", labels.crf.seconds_ray_starts},
                   {"crf_confidence", labels.crf.seconds_confidence}, {"object_segments", evidence.seconds_segments},
                   {"solve_total", labels.seconds}, {"wall_openings", labels.seconds_openings},
-                  {"other_labels", labels.seconds_other}};
+                  {"other_labels", labels.seconds_other},
+                  {"item_labels", labels.seconds_items}};
   j["files"] = {"voxels.ply", "map.ot", "semantic_topview.png", "semantic_topview_labels.png"};
   return j;
 }

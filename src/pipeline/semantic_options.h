@@ -63,6 +63,10 @@ struct SemanticStageOptions {
   // The voxels of an object segment that came out "other" get one NYU40 id (pillow, box, lamp, ...) from
   // their shape (objects/other_labels.h, models/other_labels.knn), after the Voxel-CRF.
   bool other_labels = true;
+  // What lies on furniture (its voxels above the segment's top surface: a pillow on a bed, books on a table,
+  // a sink on a counter) gets its own NYU40 id when its shape says it is an object of its own
+  // (objects/other_labels.h, models/item_labels.knn), after the "other" labels.
+  bool item_labels = true;
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
@@ -96,6 +100,10 @@ struct SemanticStageOptions {
                          "after the Voxel-CRF, the voxels of an object segment labelled \"other\" get the NYU40 "
                          "id their shape says (pillow, box, bag, lamp, television, night stand, ...; "
                          "models/other_labels.knn); off: every \"other\" voxel gets the one id the CRF model names"),
+            OptionSwitch(&O::item_labels, "item_labels",
+                         "after the Voxel-CRF, what lies on an object segment above its top surface (a pillow on a bed, "
+                         "books on a table, a sink on a counter) gets its own NYU40 id when its shape says it is an "
+                         "object of its own (models/item_labels.knn); off: it keeps the furniture's label"),
             OptionNumber(&O::classify_width, "classify_width", 16, 4096, "pixels",
                          "classification view width (the shipped classifiers are trained at 320)"),
             OptionNumber(&O::classify_height, "classify_height", 16, 4096, "pixels",

@@ -64,6 +64,42 @@ void ApplyOtherLabels(const VoxelMap& map, const SemanticEvidence& evidence, con
                                << labels->seconds_other << " s");
 }
 
+void ApplyItemLabels(const VoxelMap& map, const SemanticEvidence& evidence, const ItemLabeller& labeller, int min_voxels,
+                     SemanticLabels* labels) {
+  const auto t0 = std::chrono::steady_clock::now();
+  labels->item_groups = 0;
+  labels->item_voxels = 0;
+  if (!evidence.segmentation) return;
+  const SegmentationResult& seg = *evidence.segmentation;
+  std::vector<SemanticVoxelRecord>& occupied = labels->map.occupied;  // Ascending voxel index.
+  // Each segment's items and their ids (in parallel: the k-NN searches), then the labels in segment order.
+  std::vector<std::vector<std::vector<uint32_t>>> items(seg.segments.size());
+  std::vector<std::vector<int>> ids(seg.segments.size());
+  tbb::parallel_for(size_t(0), seg.segments.size(), [&](size_t i) {
+    items[i] = ItemsOnTop(map.grid, seg, seg.segments[i], min_voxels);
+    for (const std::vector<uint32_t>& group : items[i]) {
+      const OtherFeatureVector f = OtherFeatures(map.grid, seg, seg.segments[i], group);
+      ids[i].push_back(labeller.Label({f.data(), f.size()}));
+    }
+  });
+  for (size_t i = 0; i < seg.segments.size(); ++i)
+    for (size_t g = 0; g < items[i].size(); ++g) {
+      if (ids[i][g] <= 0) continue;
+      ++labels->item_groups;
+      for (uint32_t v : items[i][g]) {
+        const auto it = std::lower_bound(occupied.begin(), occupied.end(), v, [](const SemanticVoxelRecord& r, uint32_t x) { return r.voxel < x; });
+        if (it == occupied.end() || it->voxel != v) continue;
+        const int l = it->label;
+        if (l == nyu40::kWall || l == nyu40::kFloor || l == nyu40::kCeiling || l == nyu40::kDoor || l == nyu40::kWindow || l == ids[i][g]) continue;
+        it->label = uint16_t(ids[i][g]);
+        ++labels->item_voxels;
+      }
+    }
+  labels->seconds_items = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  SEMVOX_INFO("item labels: " << labels->item_groups << " items on top of furniture, " << labels->item_voxels << " voxels relabelled, "
+                              << labels->seconds_items << " s");
+}
+
 void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, SemanticLabels* labels) {
   const auto t0 = std::chrono::steady_clock::now();
   const VoxelGrid& grid = map.grid;

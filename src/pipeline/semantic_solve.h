@@ -25,6 +25,9 @@ struct SemanticLabels {
   int other_segments = 0;             // ApplyOtherLabels: segments whose "other" voxels got a fine id,
   size_t other_voxels = 0;            // and those voxels.
   double seconds_other = 0;
+  int item_groups = 0;                // ApplyItemLabels: items on top of segments given an NYU40 id of their own,
+  size_t item_voxels = 0;             // and the voxels it relabelled.
+  double seconds_items = 0;
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
@@ -37,6 +40,13 @@ Status SolveSemantic(const VoxelMap& map, const SemanticEvidence& evidence, cons
 // voxels, and "other" voxels outside every segment, keep the model's id. Needs evidence.segmentation.
 void ApplyOtherLabels(const VoxelMap& map, const SemanticEvidence& evidence, const VoxelCrfModel& model,
                       const OtherLabeller& labeller, int min_voxels, SemanticLabels* labels);
+
+// The items on top of each object segment of `evidence` (objects/other_labels.h, ItemsOnTop with
+// `min_voxels`) that `labeller` calls objects of their own take its NYU40 id, on their voxels that are not
+// structure (wall, floor, ceiling, door, window); the rest stay parts of the furniture. Needs
+// evidence.segmentation.
+void ApplyItemLabels(const VoxelMap& map, const SemanticEvidence& evidence, const ItemLabeller& labeller, int min_voxels,
+                     SemanticLabels* labels);
 
 // Doors and windows of the map's walls (objects/wall_openings.h) relabel the labelled voxels of their pane or
 // closed leaf that came out wall, door or window, and every voxel of an open leaf but floor and ceiling.

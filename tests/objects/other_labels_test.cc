@@ -75,6 +75,51 @@ TEST(OtherLabels, FeaturesDescribeTheOtherVoxelsAndWhatHoldsThem) {
   std::vector<uint32_t> body;
   std::set_difference(bed.voxels.begin(), bed.voxels.end(), room.cushion.begin(), room.cushion.end(), std::back_inserter(body));
   EXPECT_NEAR(OtherFeatures(room.grid, seg, bed, body)[kSegNeighbourRise], 0.15, tol);
+  // The cushion is the one item on top of the bed (its voxels above the mattress's top layer); a larger
+  // least size leaves none.
+  const std::vector<std::vector<uint32_t>> items = ItemsOnTop(room.grid, seg, bed, kOtherMinVoxels);
+  ASSERT_EQ(items.size(), 1u);
+  EXPECT_EQ(items[0], room.cushion);
+  EXPECT_TRUE(ItemsOnTop(room.grid, seg, bed, int(room.cushion.size()) + 1).empty());
+}
+
+TEST(OtherLabels, ItemsOnTopAreSeparateGroupsAndTheItemLabellerVotesPlainly) {
+  BedRoom room;
+  const std::vector<uint32_t> second = room.Fill(2.4, 1.5, 0.5, 2.7, 1.8, 0.6);  // a book, apart from the cushion
+  const double floor_z = room.FloorZ();
+  const SegmentationResult seg = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, SegmentOptions{});
+  ASSERT_EQ(seg.segments.size(), 1u);
+  const std::vector<std::vector<uint32_t>> items = ItemsOnTop(room.grid, seg, seg.segments[0], kOtherMinVoxels);
+  ASSERT_EQ(items.size(), 2u);
+  EXPECT_EQ(items[0], room.cushion);
+  EXPECT_EQ(items[1], second);
+  // Plain majority of the k nearest (no class-frequency normalisation): 2 of 3 neighbours say "part of the
+  // furniture" (0), though class 0 has three times the rows of the pillow (with Eq. 4 the pillow would win).
+  std::vector<float> x;
+  std::vector<int> y;
+  for (int r = 0; r < 8; ++r) {
+    std::vector<float> row(kNumOtherFeatures, 0.f);
+    row[0] = r < 6 ? 0.f : 0.1f;
+    if (r >= 2 && r < 6) row[0] = 5.f;  // far rows of class 0
+    x.insert(x.end(), row.begin(), row.end());
+    y.push_back(r < 6 ? 0 : nyu40::kPillow);
+  }
+  KnnOptions o;
+  o.k = 3;
+  o.standardise = false;
+  const ItemLabeller labeller(KnnClassifier::Train(x, kNumOtherFeatures, y, kNumNyu40, o).value());
+  std::vector<float> q(kNumOtherFeatures, 0.f);
+  q[0] = 0.04f;  // nearest: two class-0 rows at 0, one pillow row at 0.1
+  EXPECT_EQ(labeller.Label(q), 0);
+  q[0] = 0.1f;  // nearest: two pillow rows
+  EXPECT_EQ(labeller.Label(q), nyu40::kPillow);
+  // Far from every training group (nearest 2.4 m away in this feature, the training groups' own neighbours
+  // within 0.07): unfamiliar, so part of the furniture whatever its neighbours say.
+  q[0] = 2.5f;
+  EXPECT_EQ(labeller.Label(q), 0);
+  q[1] = 3.0f;
+  q[0] = 0.1f;
+  EXPECT_EQ(labeller.Label(q), 0);
 }
 
 TEST(OtherLabels, OtherCoversTheNyu40IdsOutsideScanNet20AndCeiling) {
@@ -117,9 +162,10 @@ TEST(OtherLabels, TrainedOnGeneratedScansItNamesHeldOutObjects) {
   o.val_seeds = {100, 101, 102};
   SegmentTrainingSummary summary;
   std::optional<OtherLabeller> fine;
-  Result<SegmentClassifier> seg = TrainSegmentClassifier(o, &summary, &fine);
+  std::optional<ItemLabeller> items;
+  Result<SegmentClassifier> seg = TrainSegmentClassifier(o, &summary, &fine, &items);
   ASSERT_TRUE(seg.ok()) << seg.status().message();
-  ASSERT_TRUE(fine.has_value());
+  ASSERT_TRUE(fine.has_value() && items.has_value());
   EXPECT_GT(summary.other_train_rows, 100);
   ASSERT_GT(summary.other_val_rows, 20);
   // The best single id for every held-out "other" voxel.
@@ -136,6 +182,18 @@ TEST(OtherLabels, TrainedOnGeneratedScansItNamesHeldOutObjects) {
   EXPECT_GT(m.GlobalAccuracy(), 0.45);  // measured 0.559 (one id for all: 0.207)
   EXPECT_GT(m.GlobalAccuracy(), single + 0.2) << "one id for all: " << single;
   EXPECT_GT(m.AverageRecall(), 0.35);  // measured 0.493
+  // Items on top: most groups that are parts of their furniture stay so, and most voxels given an id of their
+  // own are that object.
+  ASSERT_GT(summary.item_val_rows, 20);
+  const ConfusionMatrix& it = summary.item_val_voxels;
+  int64_t called = 0, called_right = 0;
+  for (int t = 0; t < it.m; ++t)
+    for (int p = 1; p < it.m; ++p) called += it.counts[size_t(t) * size_t(it.m) + size_t(p)], called_right += t == p ? it.counts[size_t(t) * size_t(it.m) + size_t(p)] : 0;
+  ASSERT_GT(called, 0);
+  std::printf("items on top on seeds 100-102: %d groups, part of the furniture kept %.3f, precision of the ids given %.3f\n",
+              summary.item_val_rows, it.Recall(0), double(called_right) / double(called));
+  EXPECT_GT(it.Recall(0), 0.8);  // measured 0.992
+  EXPECT_GT(double(called_right) / double(called), 0.45);  // measured 0.573
 }
 
 }  // namespace

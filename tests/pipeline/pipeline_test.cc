@@ -55,6 +55,10 @@ void ExpectLibraryEqualsBinaryAndScores(const std::string& input, const std::str
   EXPECT_EQ(summary.json["semantic"]["occupied_voxels"].get<size_t>(), run->labels->map.occupied.size());
   EXPECT_EQ(summary.json["rooms"]["rooms"].get<int>(), run->rooms.num_rooms);
   EXPECT_EQ(summary.json["views"]["kept"].get<size_t>(), run->views.summary.kept);
+  // The shipped models include the "other" and item labellers, and the summary counts what they relabelled.
+  ASSERT_TRUE(run->models->other && run->models->items);
+  EXPECT_EQ(summary.json["semantic"]["other_labels"]["voxels"].get<size_t>(), run->labels->other_voxels);
+  EXPECT_EQ(summary.json["semantic"]["item_labels"]["voxels"].get<size_t>(), run->labels->item_voxels);
 
   ASSERT_EQ(RunSemvox("run " + input + " -o " + cli + " --models " + std::string(SEMVOX_SOURCE_DIR) + "/models --config " +
                           std::string(SEMVOX_SOURCE_DIR) + "/tests/data/semantic.yaml",
