@@ -39,7 +39,7 @@ OtherLabeller& OtherLabeller::operator=(OtherLabeller&&) noexcept = default;
 OtherLabeller::~OtherLabeller() = default;
 
 int OtherLabeller::Label(std::span<const float> features) const {
-  const std::vector<double> p = knn_->Probabilities(features);
+  const std::vector<int> p = knn_->NeighbourCounts(features);
   int best = nyu40::kOtherProp;
   for (int id = 1; id < int(p.size()); ++id)
     if (IsOtherNyu40(id) && p[size_t(id)] > p[size_t(best)]) best = id;

@@ -179,9 +179,9 @@ TEST(OtherLabels, TrainedOnGeneratedScansItNamesHeldOutObjects) {
   const double single = double(best_single) / double(m.Total());
   std::printf("other labels on seeds 100-102: %d rows, voxels right %.3f (one id for all: %.3f), class average %.3f\n",
               summary.other_val_rows, m.GlobalAccuracy(), single, m.AverageRecall());
-  EXPECT_GT(m.GlobalAccuracy(), 0.45);  // measured 0.559 (one id for all: 0.207)
+  EXPECT_GT(m.GlobalAccuracy(), 0.44);  // measured 0.541 (one id for all: 0.207)
   EXPECT_GT(m.GlobalAccuracy(), single + 0.2) << "one id for all: " << single;
-  EXPECT_GT(m.AverageRecall(), 0.35);  // measured 0.493
+  EXPECT_GT(m.AverageRecall(), 0.45);  // measured 0.582
   // Items on top: most groups that are parts of their furniture stay so, and most voxels given an id of their
   // own are that object.
   ASSERT_GT(summary.item_val_rows, 20);
