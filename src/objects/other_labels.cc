@@ -113,8 +113,9 @@ ItemLabeller& ItemLabeller::operator=(ItemLabeller&&) noexcept = default;
 ItemLabeller::~ItemLabeller() = default;
 
 int ItemLabeller::Label(std::span<const float> features) const {
-  if (!(knn_->NeighbourDistance(features) <= familiar_distance_)) return 0;
-  const std::vector<int> counts = knn_->NeighbourCounts(features);
+  double distance = 0;
+  const std::vector<int> counts = knn_->NeighbourCountsAndDistance(features, &distance);
+  if (!(distance <= familiar_distance_)) return 0;
   int best = 0;
   for (int id = 1; id < int(counts.size()); ++id)
     if (counts[size_t(id)] > counts[size_t(best)]) best = id;

@@ -13,6 +13,15 @@
 
 namespace semvox {
 
+namespace {
+
+// The entry with the most counts (the first of equals, in key order).
+std::map<int, int>::const_iterator Majority(const std::map<int, int>& counts) {
+  return std::max_element(counts.begin(), counts.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+}
+
+}  // namespace
+
 std::string SegmentTrainingSummary::ToText(const LabelLevel& level) const {
   std::string s;
   char buf[256];
@@ -72,44 +81,38 @@ Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, st
   const VoxelLabels truth = VoxelizeLabeledMesh(apartment->mesh, options.voxel_size_m);
   const LabelLevel level = SecondLevel();
   for (const ObjectSegment& s : seg.segments) {
+    // Each voxel's ground-truth NYU40 id (0: none), looked up once for the three kinds of rows.
+    std::vector<int> gt(s.voxels.size(), 0);
+    for (size_t i = 0; i < s.voxels.size(); ++i) {
+      const auto c = map->grid.Cell(s.voxels[i]);
+      const auto it = truth.find(map->grid.KeyOf(c[0], c[1], c[2]).Pack());
+      if (it != truth.end() && it->second > 0 && it->second < kNumNyu40) gt[i] = it->second;
+    }
     if (other) {
       std::vector<uint32_t> mine;
       std::map<int, int> ids;
-      for (uint32_t v : s.voxels) {
-        const auto c = map->grid.Cell(v);
-        const auto it = truth.find(map->grid.KeyOf(c[0], c[1], c[2]).Pack());
-        if (it == truth.end() || !IsOtherNyu40(it->second)) continue;
-        mine.push_back(v);
-        ++ids[it->second];
-      }
+      for (size_t i = 0; i < s.voxels.size(); ++i)
+        if (IsOtherNyu40(gt[i])) mine.push_back(s.voxels[i]), ++ids[gt[i]];
       if (int(mine.size()) >= options.other_min_voxels) {
         const OtherFeatureVector f = OtherFeatures(map->grid, seg, s, mine);
         other->features.insert(other->features.end(), f.begin(), f.end());
-        other->ids.push_back(std::max_element(ids.begin(), ids.end(), [](const auto& a, const auto& b) { return a.second < b.second; })->first);
+        other->ids.push_back(Majority(ids)->first);
         other->voxels.push_back(int(mine.size()));
       }
     }
     if (items) {
       // Each item on top against the rest of its segment, by their most frequent ground-truth ids.
-      auto id_of = [&](uint32_t v) {
-        const auto c = map->grid.Cell(v);
-        const auto it = truth.find(map->grid.KeyOf(c[0], c[1], c[2]).Pack());
-        return it == truth.end() || it->second <= 0 || it->second >= kNumNyu40 ? 0 : it->second;
-      };
-      auto majority = [](const std::map<int, int>& m) {
-        return std::max_element(m.begin(), m.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
-      };
       for (const std::vector<uint32_t>& group : ItemsOnTop(map->grid, seg, s, options.other_min_voxels)) {
         std::map<int, int> in, rest;
         int labelled_in = 0;
-        for (uint32_t v : group)
-          if (const int id = id_of(v)) ++in[id], ++labelled_in;
-        for (uint32_t v : s.voxels)
-          if (!std::binary_search(group.begin(), group.end(), v))
-            if (const int id = id_of(v)) ++rest[id];
+        for (size_t i = 0; i < s.voxels.size(); ++i) {
+          if (!gt[i]) continue;
+          if (std::binary_search(group.begin(), group.end(), s.voxels[i])) ++in[gt[i]], ++labelled_in;
+          else ++rest[gt[i]];
+        }
         if (labelled_in * 2 < int(group.size())) continue;
-        const int item = majority(in)->first;
-        const int cls = !rest.empty() && majority(rest)->first == item ? 0 : item;
+        const int item = Majority(in)->first;
+        const int cls = !rest.empty() && Majority(rest)->first == item ? 0 : item;
         const OtherFeatureVector f = OtherFeatures(map->grid, seg, s, group);
         items->features.insert(items->features.end(), f.begin(), f.end());
         items->ids.push_back(cls);
@@ -118,17 +121,14 @@ Status LabelledSegments(uint64_t seed, const SegmentTrainingOptions& options, st
     }
     std::map<int, int> votes;
     int labelled = 0;
-    for (uint32_t v : s.voxels) {
-      const auto c = map->grid.Cell(v);
-      const auto it = truth.find(map->grid.KeyOf(c[0], c[1], c[2]).Pack());
-      if (it == truth.end() || it->second <= 0 || it->second >= int(level.class_of_nyu40.size())) continue;
-      const int cls = level.class_of_nyu40[size_t(it->second)];
+    for (int id : gt) {
+      const int cls = id > 0 ? level.class_of_nyu40[size_t(id)] : -1;
       if (cls < 0) continue;
       ++votes[cls];
       ++labelled;
     }
     if (labelled == 0 || labelled * 4 < int(s.voxels.size())) continue;
-    const auto best = std::max_element(votes.begin(), votes.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    const auto best = Majority(votes);
     if (best->second < options.min_purity * labelled) continue;
     features->insert(features->end(), s.features.begin(), s.features.end());
     classes->push_back(best->first);
@@ -183,16 +183,16 @@ Result<SegmentClassifier> TrainSegmentClassifier(const SegmentTrainingOptions& o
     std::vector<int> vc, vv;
     OtherRows vo, vi;
     SEMVOX_RETURN_IF_ERROR(LabelledSegments(seed, options, &vf, &vc, &vv, other ? &vo : nullptr, items ? &vi : nullptr));
-    for (size_t i = 0; i < vi.ids.size(); ++i) {
-      const int id = (*items)->Label({vi.features.data() + i * kNumOtherFeatures, size_t(kNumOtherFeatures)});
-      for (int k = 0; k < vi.voxels[i]; ++k) s.item_val_voxels.Add(vi.ids[i], id);
-      ++s.item_val_rows;
-    }
-    for (size_t i = 0; i < vo.ids.size(); ++i) {
-      const int id = (*other)->Label({vo.features.data() + i * kNumOtherFeatures, size_t(kNumOtherFeatures)});
-      for (int k = 0; k < vo.voxels[i]; ++k) s.other_val_voxels.Add(vo.ids[i], id);
-      ++s.other_val_rows;
-    }
+    // Each row's voxels counted with the labeller's id.
+    auto score = [](const OtherRows& rows, const auto& labeller, ConfusionMatrix* m, int* n) {
+      for (size_t i = 0; i < rows.ids.size(); ++i) {
+        const int id = labeller.Label({rows.features.data() + i * kNumOtherFeatures, size_t(kNumOtherFeatures)});
+        for (int k = 0; k < rows.voxels[i]; ++k) m->Add(rows.ids[i], id);
+        ++*n;
+      }
+    };
+    if (items) score(vi, **items, &s.item_val_voxels, &s.item_val_rows);
+    if (other) score(vo, **other, &s.other_val_voxels, &s.other_val_rows);
     for (size_t i = 0; i < vc.size(); ++i) {
       const std::vector<double> p = clf->Probabilities({vf.data() + i * kNumSegmentFeatures, size_t(kNumSegmentFeatures)});
       const int best = int(std::max_element(p.begin(), p.end()) - p.begin());

@@ -68,6 +68,8 @@ class KnnClassifier {
   // Mean Euclidean distance from `z` to its k nearest training observations, in the space they are found in
   // (standardised when options().standardise): how far the query lies from everything the model saw.
   double NeighbourDistance(std::span<const float> z) const;
+  // NeighbourCounts and NeighbourDistance from one search (NaN distance for a query of the wrong size).
+  std::vector<int> NeighbourCountsAndDistance(std::span<const float> z, double* distance) const;
   // The q-quantile (q in [0, 1]) of the training observations' own neighbour distances, each to its k nearest
   // other observations (leave one out). A query farther than the 0.99-quantile is farther from the training set
   // than 99 % of the training observations are from the rest. 0 with fewer than two observations. Costs one
@@ -84,8 +86,6 @@ class KnnClassifier {
  private:
   struct Impl;
   explicit KnnClassifier(std::unique_ptr<Impl> impl);
-  // NeighbourCounts and NeighbourDistance from one search (NaN distance for a query of the wrong size).
-  std::vector<int> NeighbourCountsAndDistance(std::span<const float> z, double* distance) const;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -36,11 +36,6 @@ void ApplyOtherLabels(const VoxelMap& map, const SemanticEvidence& evidence, con
     if (model.class_names[size_t(k)] == "other") other_id = model.nyu40_of_class[size_t(k)];
   if (!evidence.segmentation || other_id <= 0) return;
   const SegmentationResult& seg = *evidence.segmentation;
-  std::vector<SemanticVoxelRecord>& occupied = labels->map.occupied;  // Ascending voxel index.
-  auto record = [&](uint32_t v) -> SemanticVoxelRecord* {
-    const auto it = std::lower_bound(occupied.begin(), occupied.end(), v, [](const SemanticVoxelRecord& r, uint32_t x) { return r.voxel < x; });
-    return it == occupied.end() || it->voxel != v ? nullptr : &*it;
-  };
   // Each segment's "other" voxels and their features (in parallel: the k-NN search), then the labels in
   // segment order.
   std::vector<std::vector<SemanticVoxelRecord*>> mine(seg.segments.size());
@@ -48,7 +43,7 @@ void ApplyOtherLabels(const VoxelMap& map, const SemanticEvidence& evidence, con
   tbb::parallel_for(size_t(0), seg.segments.size(), [&](size_t i) {
     std::vector<uint32_t> voxels;
     for (uint32_t v : seg.segments[i].voxels)
-      if (SemanticVoxelRecord* r = record(v); r && r->label == other_id) mine[i].push_back(r), voxels.push_back(v);
+      if (SemanticVoxelRecord* r = labels->map.Find(v); r && r->label == other_id) mine[i].push_back(r), voxels.push_back(v);
     if (int(voxels.size()) < min_voxels) return;
     const OtherFeatureVector f = OtherFeatures(map.grid, seg, seg.segments[i], voxels);
     id[i] = labeller.Label({f.data(), f.size()});
@@ -71,7 +66,6 @@ void ApplyItemLabels(const VoxelMap& map, const SemanticEvidence& evidence, cons
   labels->item_voxels = 0;
   if (!evidence.segmentation) return;
   const SegmentationResult& seg = *evidence.segmentation;
-  std::vector<SemanticVoxelRecord>& occupied = labels->map.occupied;  // Ascending voxel index.
   // Each segment's items and their ids (in parallel: the k-NN searches), then the labels in segment order.
   std::vector<std::vector<std::vector<uint32_t>>> items(seg.segments.size());
   std::vector<std::vector<int>> ids(seg.segments.size());
@@ -87,8 +81,8 @@ void ApplyItemLabels(const VoxelMap& map, const SemanticEvidence& evidence, cons
       if (ids[i][g] <= 0) continue;
       ++labels->item_groups;
       for (uint32_t v : items[i][g]) {
-        const auto it = std::lower_bound(occupied.begin(), occupied.end(), v, [](const SemanticVoxelRecord& r, uint32_t x) { return r.voxel < x; });
-        if (it == occupied.end() || it->voxel != v) continue;
+        SemanticVoxelRecord* it = labels->map.Find(v);
+        if (!it) continue;
         const int l = it->label;
         if (l == nyu40::kWall || l == nyu40::kFloor || l == nyu40::kCeiling || l == nyu40::kDoor || l == nyu40::kWindow || l == ids[i][g]) continue;
         it->label = uint16_t(ids[i][g]);
@@ -108,14 +102,12 @@ void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, S
   const double top_z = map.ceiling_found ? map.ceiling_z - 0.1 : top_cell >= 0 ? grid.CellCenter(0, 0, top_cell).z() : map.floor_z;
   labels->openings = FindWallOpenings(grid, map.floor_z, top_z, options);
   labels->opening_voxels = 0;
-  std::vector<SemanticVoxelRecord>& occupied = labels->map.occupied;  // Ascending voxel index.
   for (const WallOpening& o : labels->openings) {
     // A pane or closed leaf is part of the wall's surface: only voxels the CRF took for wall (or the other
     // opening class) change. An open leaf stands free, so it changes whatever it was taken for.
     for (uint32_t v : o.voxels) {
-      const auto it = std::lower_bound(occupied.begin(), occupied.end(), v,
-                                       [](const SemanticVoxelRecord& r, uint32_t x) { return r.voxel < x; });
-      if (it == occupied.end() || it->voxel != v || it->label == o.nyu40) continue;
+      SemanticVoxelRecord* it = labels->map.Find(v);
+      if (!it || it->label == o.nyu40) continue;
       const bool structural = it->label == nyu40::kWall || it->label == nyu40::kDoor || it->label == nyu40::kWindow;
       if (!structural && !(o.open_leaf && it->label != nyu40::kFloor && it->label != nyu40::kCeiling)) continue;
       it->label = uint16_t(o.nyu40);

@@ -82,6 +82,12 @@ VoxelGrid SemanticMap::RefinedGrid(const VoxelGrid& grid, const VoxelCrfNodes& n
   return out;
 }
 
+SemanticVoxelRecord* SemanticMap::Find(uint32_t voxel) {
+  const auto it = std::lower_bound(occupied.begin(), occupied.end(), voxel,
+                                   [](const SemanticVoxelRecord& r, uint32_t v) { return r.voxel < v; });
+  return it == occupied.end() || it->voxel != voxel ? nullptr : &*it;
+}
+
 std::vector<std::pair<int, size_t>> SemanticMap::LabelCounts() const {
   std::map<int, size_t> c;
   for (const auto& r : occupied) ++c[r.label];

@@ -36,6 +36,8 @@ struct SemanticMap {
   // Occupancy of the grid after the CRF: nodes labelled occupied become occupied, nodes labelled empty that
   // the map held occupied become free (the CRF removed them), everything else keeps its state.
   VoxelGrid RefinedGrid(const VoxelGrid& grid, const VoxelCrfNodes& nodes) const;
+  // The record of grid voxel `voxel`, or null when it is not occupied (a binary search).
+  SemanticVoxelRecord* Find(uint32_t voxel);
   // NYU40 id -> number of occupied voxels.
   std::vector<std::pair<int, size_t>> LabelCounts() const;
   size_t completed_count() const;
