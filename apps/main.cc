@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--pred", eval.pred_dir, "OUTDIR of semvox run")->required();
   auto* eval_gt = eval_cmd->add_option("--gt", eval.gt_dir, "directory written by semvox generate --seed N");
   auto* eval_boxes = eval_cmd->add_option("--boxes", eval.boxes_path,
-                                          "real scan: gt.json with axis_align_matrix and boxes_in_aligned_frame (docs/metrics.md)");
+                                          "real scan: ScanNet-style gt.json (axis_align_matrix, boxes_in_aligned_frame) or SUN RGB-D-style gt_boxes.tsv (yawed boxes; docs/metrics.md)");
   eval_gt->excludes(eval_boxes);
   eval_cmd->add_option("-o,--output", eval.output, "JSON report path (default PRED/eval.json with --gt, none with --boxes)");
   eval_cmd->add_flag("--json", eval.json, "print the JSON report on stdout instead of the table");

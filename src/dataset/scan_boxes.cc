@@ -3,8 +3,11 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <map>
+#include <sstream>
 
 #include "core/file_util.h"
+#include "core/label_aliases.h"
 #include "core/labels.h"
 
 namespace semvox {
@@ -22,7 +25,78 @@ bool Number(const nlohmann::json& j, double* v) {
   return std::isfinite(*v);
 }
 
+constexpr const char* kSunHint = "expected a tab-separated header with class_name cx cy cz dx dy dz yaw_rad, then one box per line "
+                                 "(SUN RGB-D / mmdetection3d depth boxes); see docs/metrics.md";
+
+Status SunError(const std::string& name, const std::string& what) { return Status::InvalidInput(FileError(name, what, kSunHint)); }
+
+std::vector<std::string> SplitTabs(const std::string& line) {
+  std::vector<std::string> out;
+  std::string field;
+  std::istringstream in(line);
+  while (std::getline(in, field, '\t')) out.push_back(field);
+  return out;
+}
+
 }  // namespace
+
+bool GroundTruthBox::Contains(const Eigen::Vector3d& p) const {
+  Eigen::Vector3d q = p - centre;
+  if (yaw_rad != 0) {  // Into the box's axes: turn by -yaw about z.
+    const double c = std::cos(yaw_rad), s = std::sin(yaw_rad);
+    q = Eigen::Vector3d(c * q.x() + s * q.y(), -s * q.x() + c * q.y(), q.z());
+  }
+  return (q.cwiseAbs().array() <= 0.5 * size.array()).all();
+}
+
+Result<BoxGroundTruth> ParseSunRgbdBoxes(const std::string& text, const std::string& name) {
+  std::istringstream in(text);
+  std::string line;
+  int line_no = 0;
+  std::map<std::string, size_t> column;
+  BoxGroundTruth gt;
+  gt.path = name;
+  const char* kNeeded[] = {"class_name", "cx", "cy", "cz", "dx", "dy", "dz", "yaw_rad"};
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    const std::vector<std::string> f = SplitTabs(line);
+    const std::string where = "line " + std::to_string(line_no);
+    if (column.empty()) {
+      for (size_t k = 0; k < f.size(); ++k) column[f[k]] = k;
+      for (const char* c : kNeeded)
+        if (!column.count(c)) return SunError(name, where + ": the header has no column " + std::string(c));
+      continue;
+    }
+    GroundTruthBox g;
+    double v[7];
+    for (int k = 0; k < 7; ++k) {
+      const size_t col = column.at(kNeeded[k + 1]);
+      if (col >= f.size()) return SunError(name, where + ": no " + std::string(kNeeded[k + 1]) + " field");
+      size_t used = 0;
+      try {
+        v[k] = std::stod(f[col], &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != f[col].size() || !std::isfinite(v[k]))
+        return SunError(name, where + ", " + kNeeded[k + 1] + ": \"" + f[col] + "\" is not a finite number");
+      if (k >= 3 && k < 6 && v[k] < 0) return SunError(name, where + ", " + kNeeded[k + 1] + ": negative size");
+    }
+    const size_t cc = column.at("class_name");
+    if (cc >= f.size()) return SunError(name, where + ": no class_name field");
+    g.class_name = f[cc];
+    g.nyu40 = Nyu40IdByAlias(g.class_name);
+    if (g.nyu40 < 1) return SunError(name, where + ", class_name: \"" + g.class_name + "\" is not a NYU40 class name (`semvox labels` lists them)");
+    g.centre = Eigen::Vector3d(v[0], v[1], v[2]);
+    g.size = Eigen::Vector3d(v[3], v[4], v[5]);
+    g.yaw_rad = v[6];
+    gt.boxes.push_back(std::move(g));
+  }
+  if (column.empty()) return SunError(name, "empty file");
+  return gt;
+}
 
 Result<BoxGroundTruth> ParseBoxGroundTruth(const std::string& text, const std::string& name) {
   nlohmann::json j;
@@ -76,6 +150,7 @@ Result<BoxGroundTruth> ParseBoxGroundTruth(const std::string& text, const std::s
 Result<BoxGroundTruth> ReadBoxGroundTruth(const std::string& path) {
   std::string bytes;
   SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
+  if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".tsv") == 0) return ParseSunRgbdBoxes(bytes, path);
   return ParseBoxGroundTruth(bytes, path);
 }
 

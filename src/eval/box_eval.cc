@@ -82,10 +82,9 @@ BoxEvalReport EvaluateBoxes(const RunVoxels& voxels, const BoxGroundTruth& gt) {
     BoxScore s;
     s.class_name = box.class_name;
     s.nyu40 = box.nyu40;
-    const Eigen::Vector3d half = 0.5 * box.size;
     std::map<int, size_t> counts;
     for (size_t i = 0; i < n; ++i) {
-      if (((q[i] - box.centre).cwiseAbs().array() > half.array()).any()) continue;
+      if (!box.Contains(q[i])) continue;
       in_any[i] = 1;
       ++s.voxels;
       ++counts[voxels.labels[i]];

@@ -134,8 +134,12 @@ bool DominantAxisNearZ(const Samples& s, double cone_rad, double refine_rad, Eig
 
 // Whether the floor lies on the +axis side of the scan (up = -axis): furniture tops, seats and table
 // undersides lie in the lower half between the lowest and highest horizontal planes, and the floor is the
-// larger of those two planes. Face orientation cannot
-// tell: a turned room still has its normals pointing inwards (closed meshes) or towards the scanner.
+// larger of those two planes. The first vote needs the highest plane to be a ceiling: when the two planes lie
+// less than kMinCeilingHeight apart, the highest is a furniture top (a single RGB-D view of a bed, a scan
+// without its ceiling), furniture fills the upper half as a matter of course, and only the second vote counts.
+// Face orientation cannot tell: a turned room still has its normals pointing inwards (closed meshes) or
+// towards the scanner.
+constexpr double kMinCeilingHeight = 2.0;  // Metres: rooms are at least this high.
 bool LooksUpsideDown(const Samples& s, const Eigen::Vector3d& axis, double horizontal_rad) {
   const double cos_h = std::cos(horizontal_rad);
   double wh = 0;
@@ -165,7 +169,8 @@ bool LooksUpsideDown(const Samples& s, const Eigen::Vector3d& axis, double horiz
   // lower half) and the extreme planes (the floor is the larger: fused clouds often miss the ceiling
   // wholly or in patches, and shelves and wall cabinets high up then outweigh the furniture below).
   auto vote = [](double a, double b) { return a + b > 0 ? (a - b) / (a + b) : 0.0; };
-  return vote(below, above) + vote(at_lo, at_hi) < 0;
+  const double furniture = hi - lo >= kMinCeilingHeight ? vote(below, above) : 0.0;
+  return furniture + vote(at_lo, at_hi) < 0;
 }
 
 // Wall direction modulo 90 degrees in the levelled frame, (-45, 45] degrees: peak of the area-weighted

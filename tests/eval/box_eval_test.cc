@@ -224,6 +224,59 @@ TEST(BoxEval, MalformedGroundTruthGivesAnErrorNamingTheField) {
   EXPECT_TRUE(ParseBoxGroundTruth(good, "gt.json").ok());
 }
 
+// SUN RGB-D style boxes (gt_boxes.tsv): yawed about +z in the scan's frame, classes by NYU40 name or alias.
+TEST(BoxEval, SunRgbdBoxesAreTurnedByTheirYaw) {
+  const std::string tsv =
+      "instance\tclass_id\tclass_name\tcx\tcy\tcz\tdx\tdy\tdz\tyaw_rad\tpoints_inside\n"
+      "0\t7\tnight_stand\t0\t0\t0.5\t2\t0.2\t1\t0.7853981633974483\t10\n"
+      "1\t0\tbed\t5\t5\t0.5\t1\t1\t1\t0\t20\n";
+  Result<BoxGroundTruth> gt = ParseSunRgbdBoxes(tsv, "gt_boxes.tsv");
+  ASSERT_TRUE(gt.ok()) << gt.status().message();
+  ASSERT_EQ(gt->boxes.size(), 2u);
+  EXPECT_EQ(gt->boxes[0].nyu40, 32);  // night_stand -> night stand.
+  EXPECT_EQ(gt->boxes[0].class_name, "night_stand");
+  EXPECT_EQ(gt->boxes[1].nyu40, kBed);
+  EXPECT_TRUE(gt->axis_align.isIdentity(0.0));
+  // A 2 m x 0.2 m box turned by 45 degrees: along the diagonal, not along x.
+  const GroundTruthBox& b = gt->boxes[0];
+  EXPECT_TRUE(b.Contains(Eigen::Vector3d(0.6, 0.6, 0.5)));
+  EXPECT_FALSE(b.Contains(Eigen::Vector3d(0.6, -0.6, 0.5)));
+  EXPECT_FALSE(b.Contains(Eigen::Vector3d(0.9, 0.0, 0.5)));
+  EXPECT_FALSE(b.Contains(Eigen::Vector3d(0.6, 0.6, 1.1)));
+  // Scored: voxels on the diagonal count for the night stand, the one off it for nothing.
+  RunVoxels v;
+  v.centres = {{0.3, 0.3, 0.5}, {-0.3, -0.3, 0.5}, {0.5, -0.5, 0.5}, {5, 5, 0.2}};
+  v.labels = {32, kDresser, 32, kBed};
+  const BoxEvalReport r = EvaluateBoxes(v, *gt);
+  EXPECT_EQ(r.boxes[0].voxels, 2u);
+  EXPECT_DOUBLE_EQ(r.boxes[0].recall.value, 0.5);
+  EXPECT_DOUBLE_EQ(r.boxes[1].recall.value, 1.0);
+
+  // Bad input: one line naming the file and what is wrong.
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"", "empty file"},
+      {"class_name\tcx\tcy\tcz\tdx\tdy\tdz\n", "no column yaw_rad"},
+      {"class_name\tcx\tcy\tcz\tdx\tdy\tdz\tyaw_rad\nbed\t1\t2\t3\t1\t1\tx\t0\n", "line 2, dz: \"x\" is not a finite number"},
+      {"class_name\tcx\tcy\tcz\tdx\tdy\tdz\tyaw_rad\nbed\t1\t2\t3\t1\t-1\t1\t0\n", "line 2, dy: negative size"},
+      {"class_name\tcx\tcy\tcz\tdx\tdy\tdz\tyaw_rad\nspaceship\t1\t2\t3\t1\t1\t1\t0\n", "\"spaceship\" is not a NYU40 class name"},
+      {"class_name\tcx\tcy\tcz\tdx\tdy\tdz\tyaw_rad\nbed\t1\t2\n", "line 2: no cz field"},
+  };
+  for (const auto& [text, expected] : cases) {
+    Result<BoxGroundTruth> bad = ParseSunRgbdBoxes(text, "some/gt_boxes.tsv");
+    ASSERT_FALSE(bad.ok()) << expected;
+    EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+    EXPECT_NE(bad.status().message().find("some/gt_boxes.tsv: "), std::string::npos) << bad.status().message();
+    EXPECT_NE(bad.status().message().find(expected), std::string::npos) << bad.status().message();
+    EXPECT_EQ(bad.status().message().find('\n'), std::string::npos) << bad.status().message();
+  }
+  // ReadBoxGroundTruth reads a .tsv path as this format.
+  testing::ScratchDir dir("box_eval_sun");
+  testing::WriteText(dir.File("gt_boxes.tsv"), tsv);
+  Result<BoxGroundTruth> read = ReadBoxGroundTruth(dir.File("gt_boxes.tsv"));
+  ASSERT_TRUE(read.ok()) << read.status().message();
+  EXPECT_EQ(read->boxes.size(), 2u);
+}
+
 TEST(BoxEval, MissingFilesAndUnlabelledVoxelsAreInvalidInput) {
   testing::ScratchDir dir("box_eval_bad");
   Result<BoxGroundTruth> gt = ReadBoxGroundTruth(dir.File("absent.json"));

@@ -283,5 +283,34 @@ TEST(SceneFrame, ScanNetStudio) {
   EXPECT_TRUE(NamesUp(g));
 }
 
+// One real RGB-D view of a bedroom (SUN RGB-D frame 000017 from ../shared/data; upright depth coordinates, +z
+// up, the floor about 1.2 m below the camera); skipped when absent. The bed's top is the highest horizontal
+// plane and lies only a metre above the floor: no ceiling, so the furniture in the upper half of the range
+// says nothing, and the floor at the low end says upright. It was called upside down (and left unlevelled)
+// until 2026-12-06. The ground-truth boxes' bottoms (bed, night stand) lie at -1.20 and -1.25 m.
+TEST(SceneFrame, SunRgbdBedroomViewIsUprightAndLevelled) {
+  const std::string path = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/sunrgbd_000017/000017_points.ply";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " absent";
+  Result<Scene> scene = LoadScene(path);
+  ASSERT_TRUE(scene.ok()) << scene.status().message();
+  const SceneFrame f = EstimateSceneFrame(scene.value());
+  std::printf("SUN RGB-D 000017: up (%.4f %.4f %.4f), tilt %.3f deg, floor %.4f m, %zu warnings\n", f.up.x(), f.up.y(), f.up.z(),
+              f.tilt_deg, f.floor_z, f.warnings.size());
+  EXPECT_TRUE(f.up_found);
+  EXPECT_FALSE(f.upside_down);
+  EXPECT_TRUE(f.levelled);
+  EXPECT_GT(f.up.z(), 0.99);
+  EXPECT_LT(f.tilt_deg, 4.0);
+  EXPECT_TRUE(f.floor_found);
+  EXPECT_NEAR(f.floor_z, -1.2, 0.1);
+  for (const std::string& w : f.warnings) EXPECT_EQ(w.find("upside down"), std::string::npos) << w;
+  // Turned over, it is upside down.
+  Scene flipped = scene.value();
+  Eigen::Isometry3d flip = Eigen::Isometry3d::Identity();
+  flip.rotate(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));
+  TransformScene(flip, &flipped);
+  EXPECT_TRUE(EstimateSceneFrame(flipped).upside_down);
+}
+
 }  // namespace
 }  // namespace semvox
