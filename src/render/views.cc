@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -76,8 +77,16 @@ double ViewHeight(const VoxelMap& map, const ViewsOptions& options) {
   if (!map.scan_positions.empty()) {
     double z = 0;
     for (const auto& p : map.scan_positions) z += p.z();
-    SEMVOX_WARN("views: floor or ceiling not found; cameras placed at the scan height");
-    return z / double(map.scan_positions.size());
+    z /= double(map.scan_positions.size());
+    // Fused RGB-D scans rarely hold their ceiling (ScanNet's never do), so say which one is missing and where
+    // the cameras went.
+    std::ostringstream where;
+    where << std::fixed << std::setprecision(2);
+    if (map.floor_found) where << (z - map.floor_z) << " m above the floor";
+    else where << "z = " << z << " m";
+    SEMVOX_WARN("views: " << (map.floor_found ? "no ceiling found" : map.ceiling_found ? "no floor found" : "no floor or ceiling found")
+                          << "; cameras placed at the height of the virtual scan positions, " << where.str());
+    return z;
   }
   const Eigen::Vector3d lo = map.grid.MinCorner();
   return lo.z() + 0.5 * map.grid.dims()[2] * map.grid.resolution();
