@@ -134,9 +134,11 @@ bool DominantAxisNearZ(const Samples& s, double cone_rad, double refine_rad, Eig
 
 // Whether the floor lies on the +axis side of the scan (up = -axis): furniture tops, seats and table
 // undersides lie in the lower half between the lowest and highest horizontal planes, and the floor is the
-// larger of those two planes. The first vote needs the highest plane to be a ceiling: when the two planes lie
-// less than kMinCeilingHeight apart, the highest is a furniture top (a single RGB-D view of a bed, a scan
-// without its ceiling), furniture fills the upper half as a matter of course, and only the second vote counts.
+// larger of those two planes. The first vote needs the two planes to be floor and ceiling: when they lie
+// less than kMinCeilingHeight apart and one holds under a third of the other's area, the smaller is a
+// furniture top (a single RGB-D view of a bed, a scan without its ceiling), furniture fills the half next to
+// it as a matter of course, and only the second vote counts. A low room whose ceiling outweighs the floor
+// that its furniture hides keeps both votes.
 // Face orientation cannot tell: a turned room still has its normals pointing inwards (closed meshes) or
 // towards the scanner.
 constexpr double kMinCeilingHeight = 2.0;  // Metres: rooms are at least this high.
@@ -169,7 +171,8 @@ bool LooksUpsideDown(const Samples& s, const Eigen::Vector3d& axis, double horiz
   // lower half) and the extreme planes (the floor is the larger: fused clouds often miss the ceiling
   // wholly or in patches, and shelves and wall cabinets high up then outweigh the furniture below).
   auto vote = [](double a, double b) { return a + b > 0 ? (a - b) / (a + b) : 0.0; };
-  const double furniture = hi - lo >= kMinCeilingHeight ? vote(below, above) : 0.0;
+  const bool floor_and_ceiling = hi - lo >= kMinCeilingHeight || 3 * std::min(at_lo, at_hi) >= std::max(at_lo, at_hi);
+  const double furniture = floor_and_ceiling ? vote(below, above) : 0.0;
   return furniture + vote(at_lo, at_hi) < 0;
 }
 

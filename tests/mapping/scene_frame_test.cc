@@ -283,6 +283,32 @@ TEST(SceneFrame, ScanNetStudio) {
   EXPECT_TRUE(NamesUp(g));
 }
 
+// A room lower than 2 m with its whole ceiling scanned (the generated apartment squashed to 70 % of its height:
+// ceilings at 1.8-1.9 m), whose ceiling outweighs the floor the furniture hides: the extreme planes alone would
+// call it upside down, so the furniture votes too, and it is upright; turned over, upside down.
+TEST(SceneFrame, LowCeilingLargerThanTheVisibleFloorIsUpright) {
+  Scene low = MeshScene(Eigen::Isometry3d::Identity());
+  for (auto& v : low.mesh.vertices) v.z() *= 0.7f;
+  // Every other floor face dropped: the scanner saw about half the floor.
+  std::vector<Eigen::Vector3i> faces;
+  int floor_faces = 0;
+  for (const auto& f : low.mesh.faces) {
+    bool on_floor = true;
+    for (int k = 0; k < 3; ++k) on_floor = on_floor && std::fabs(low.mesh.vertices[size_t(f[k])].z()) < 0.005f;
+    if (!on_floor || floor_faces++ % 2 == 0) faces.push_back(f);
+  }
+  ASSERT_GT(floor_faces, 10);
+  low.mesh.faces = faces;
+  low.mesh.face_attributes.clear();
+  const SceneFrame f = EstimateSceneFrame(low);
+  EXPECT_FALSE(f.upside_down);
+  EXPECT_LT(f.tilt_deg, 1.0);
+  Eigen::Isometry3d flip = Eigen::Isometry3d::Identity();
+  flip.rotate(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));
+  TransformScene(flip, &low);
+  EXPECT_TRUE(EstimateSceneFrame(low).upside_down);
+}
+
 // One real RGB-D view of a bedroom (SUN RGB-D frame 000017 from ../shared/data; upright depth coordinates, +z
 // up, the floor about 1.2 m below the camera); skipped when absent. The bed's top is the highest horizontal
 // plane and lies only a metre above the floor: no ceiling, so the furniture in the upper half of the range
