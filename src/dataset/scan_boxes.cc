@@ -150,7 +150,7 @@ Result<BoxGroundTruth> ParseBoxGroundTruth(const std::string& text, const std::s
 Result<BoxGroundTruth> ReadBoxGroundTruth(const std::string& path) {
   std::string bytes;
   SEMVOX_RETURN_IF_ERROR(ReadFileBytes(path, &bytes));
-  if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".tsv") == 0) return ParseSunRgbdBoxes(bytes, path);
+  if (path.ends_with(".tsv")) return ParseSunRgbdBoxes(bytes, path);
   return ParseBoxGroundTruth(bytes, path);
 }
 

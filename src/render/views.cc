@@ -80,12 +80,10 @@ double ViewHeight(const VoxelMap& map, const ViewsOptions& options) {
     z /= double(map.scan_positions.size());
     // Fused RGB-D scans rarely hold their ceiling (ScanNet's never do), so say which one is missing and where
     // the cameras went.
-    std::ostringstream where;
-    where << std::fixed << std::setprecision(2);
-    if (map.floor_found) where << (z - map.floor_z) << " m above the floor";
-    else where << "z = " << z << " m";
-    SEMVOX_WARN("views: " << (map.floor_found ? "no ceiling found" : map.ceiling_found ? "no floor found" : "no floor or ceiling found")
-                          << "; cameras placed at the height of the virtual scan positions, " << where.str());
+    const bool floor = map.floor_found;
+    SEMVOX_WARN("views: " << (floor ? "no ceiling found" : map.ceiling_found ? "no floor found" : "no floor or ceiling found")
+                          << "; cameras placed at the height of the virtual scan positions, " << std::fixed << std::setprecision(2)
+                          << (floor ? "" : "z = ") << (floor ? z - map.floor_z : z) << (floor ? " m above the floor" : " m"));
     return z;
   }
   const Eigen::Vector3d lo = map.grid.MinCorner();
