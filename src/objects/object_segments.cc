@@ -17,8 +17,8 @@ bool SegmentOptions::Check(std::string* error) const {
   if (!(wall_band_bottom_m >= 0 && wall_band_top_m >= 0 && wall_min_length_m > 0))
     return fail("wall_band_bottom_m and wall_band_top_m must be >= 0, wall_min_length_m > 0");
   if (wall_dilation_cells < 0) return fail("wall_dilation_cells must be >= 0");
-  if (!(split_height_m >= 0 && split_top_step_m >= 0 && min_part_area_m2 >= 0))
-    return fail("split_height_m, split_top_step_m and min_part_area_m2 must be >= 0");
+  if (!(split_height_m >= 0 && split_top_step_m >= 0 && min_part_area_m2 >= 0 && rise_min_thickness_m >= 0))
+    return fail("split_height_m, split_top_step_m, min_part_area_m2 and rise_min_thickness_m must be >= 0");
   if (min_voxels < 1 || max_voxels < min_voxels) return fail("segment sizes: need 1 <= min_voxels <= max_voxels");
   if (!(front_min_depth_m >= 0 && (front_max_depth_m == 0 || front_max_depth_m > front_min_depth_m)))
     return fail("front_min_depth_m must be >= 0 and front_max_depth_m 0 or > front_min_depth_m");
@@ -467,7 +467,7 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
   const int min_cells = std::max(1, int(std::lround(options.min_part_area_m2 / (res * res))));
   struct Part {
     std::vector<uint32_t> voxels;
-    float rise = 0;  // kSegNeighbourRise
+    std::array<float, kNumSegmentFeatures> features{};
   };
   std::vector<Part> parts;
   for (std::vector<uint32_t>& comp : whole) {
@@ -481,18 +481,25 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
         owner[{c[0], c[1]}] = int(p);
         top[p] = std::max(top[p], c[2]);
       }
+    std::vector<std::array<float, kNumSegmentFeatures>> features(cut.size());
+    for (size_t p = 0; p < cut.size(); ++p) {
+      std::sort(cut[p].begin(), cut[p].end());
+      features[p] = Describe(grid, cut[p], floor_z, top_z, wall_distance);
+    }
     std::vector<int> highest_neighbour(cut.size(), -1);
     for (const auto& [xy, p] : owner)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           const auto it = owner.find({xy.first + dx, xy.second + dy});
-          if (it != owner.end() && it->second != p) highest_neighbour[size_t(p)] = std::max(highest_neighbour[size_t(p)], top[size_t(it->second)]);
+          if (it == owner.end() || it->second == p) continue;
+          if (features[size_t(it->second)][kSegThickness] < options.rise_min_thickness_m) continue;
+          highest_neighbour[size_t(p)] = std::max(highest_neighbour[size_t(p)], top[size_t(it->second)]);
         }
     for (size_t p = 0; p < cut.size(); ++p) {
       Part part;
-      std::sort(cut[p].begin(), cut[p].end());
       part.voxels = std::move(cut[p]);
-      if (highest_neighbour[p] > top[p]) part.rise = float((highest_neighbour[p] - top[p]) * res);
+      part.features = features[p];
+      part.features[kSegNeighbourRise] = highest_neighbour[p] > top[p] ? float((highest_neighbour[p] - top[p]) * res) : 0.f;
       parts.push_back(std::move(part));
     }
   }
@@ -500,8 +507,7 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
   for (Part& part : parts) {
     if (int(part.voxels.size()) < options.min_voxels || int(part.voxels.size()) > options.max_voxels) continue;
     ObjectSegment seg;
-    seg.features = Describe(grid, part.voxels, floor_z, top_z, wall_distance);
-    seg.features[kSegNeighbourRise] = part.rise;
+    seg.features = part.features;
     seg.voxels = std::move(part.voxels);
     out.segments.push_back(std::move(seg));
   }

@@ -57,6 +57,7 @@ struct SegmentOptions {
   double split_top_step_m = 0.1;    // Parts of a segment: footprint columns whose tops differ by at most this grow
                                     // into one part (0: no cut). >= 0.
   double min_part_area_m2 = 0.12;   // Parts with a smaller footprint join the neighbouring part. >= 0.
+  double rise_min_thickness_m = 0.2;  // Adjacent parts thinner than this (door leaves, curtains) give no neighbour rise. >= 0.
   int min_voxels = 12;              // Smaller components are not segments. >= 1.
   int max_voxels = 200000;          // Larger components (a whole scan that is one blob) are not segments. >= min_voxels.
   bool Check(std::string* error) const;

@@ -34,7 +34,8 @@ constexpr double kMinMeanBoxRecall = 0.18;  // Mean over boxes holding voxels; m
                                             // cut from unrecorded glass and the deeper pane voxels), 0.134 without,
                                             // 0.106 before.
 constexpr int kMinRooms = 3;                // Rooms in rooms.geojson; measured 3 (2026-12-05): living room 28.6 m²,
-                                            // kitchen 9.6 m², the bathroom 4.0 m² (typed kitchen); 2 before.
+                                            // kitchen 9.6 m², the bathroom 4.0 m² (typed kitchen until 2026-12-06,
+                                            // bathroom since thin parts give no neighbour rise); 2 before.
 constexpr double kMinUnfamiliarShare = 0.3;  // Object segment voxels unlike every training segment; measured 0.52.
 constexpr double kMinUnfamiliarViewShare = 0.35;  // Classified pixels unlike every training view; measured 0.47.
 constexpr double kMaxBathroomArea = 6.0;    // The room holding the toilet box's centre, m²; measured 4.0.
@@ -51,7 +52,7 @@ const std::map<std::string, double> kMinClassRecall = {
     {"sink", 0.0},          // measured 0.000
     {"sofa", 0.10},         // measured 0.171 (0.297)
     {"table", 0.05},        // measured 0.090 (0.055; desk voxels count)
-    {"toilet", 0.0},        // measured 0.000
+    {"toilet", 0.04},       // measured 0.082 since thin parts give no neighbour rise (2026-12-06), 0.000 before
     {"window", 0.30},       // measured 0.393 with the windows found in the walls (0.262 before the pane cut from
                             // unrecorded glass), 0.046 without
 };
@@ -175,6 +176,17 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   EXPECT_NE(toilet[0].first, bed[0].first) << "the bathroom merged with the main room";
   EXPECT_LT(toilet[0].second, kMaxBathroomArea) << "the toilet's room";
   std::printf("toilet in room %d (%.1f m2), bed in room %d (%.1f m2)\n", toilet[0].first, toilet[0].second, bed[0].first, bed[0].second);
+  // The studio holds a bathroom and a kitchen (issue 16): the toilet's room is typed bathroom, the
+  // refrigerator's kitchen (measured 0.97 and 0.89).
+  auto type_of = [&](int id) {
+    for (const auto& f : rooms["features"])
+      if (f["properties"]["id"].get<int>() == id) return f["properties"]["type"].get<std::string>();
+    return std::string();
+  };
+  const auto fridge = room_of("refrigerator");
+  ASSERT_EQ(fridge.size(), 1u) << "the refrigerator's centre lies in one room";
+  EXPECT_EQ(type_of(toilet[0].first), "bathroom") << "the toilet's room";
+  EXPECT_EQ(type_of(fridge[0].first), "kitchen") << "the refrigerator's room";
 }
 
 // The SUN RGB-D bedroom view end to end, scored against its yawed boxes (gt_boxes.tsv); skipped when absent.

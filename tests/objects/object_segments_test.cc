@@ -192,6 +192,36 @@ TEST(ObjectSegments, ClosedDoorBeforeAnUnseenRoomStaysWallUnderAFoundCeiling) {
   EXPECT_NE(SegmentAt(no_ceiling, room.grid, door_x, door_y, z), nullptr);
 }
 
+// A part's neighbour rise is meant for a seat's back or a counter's wall cabinets. An open door leaf standing
+// beside a toilet (a thin panel, 0.15 m) gives none; a tall cabinet beside a stool (0.6 m thick) does.
+TEST(ObjectSegments, ThinPanelsGiveNoNeighbourRise) {
+  Room room;
+  room.Fill(1.0, 3.5, 0.05, 1.4, 4.05, 0.42);   // toilet-like seat
+  room.Fill(1.4, 3.3, 0.05, 1.55, 4.2, 2.0);    // door leaf touching it, 0.15 x 0.9 m, 2 m high
+  room.Fill(3.45, 2.5, 0.05, 4.0, 3.05, 0.42);  // stool-like seat
+  room.Fill(4.0, 2.5, 0.05, 4.6, 3.1, 1.8);     // tall cabinet touching it
+  const double floor_z = room.FloorZ();
+  const int z = 4;  // 0.2-0.25 m above the floor
+  const SegmentationResult r = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, SegmentOptions{});
+  const ObjectSegment* toilet = SegmentAt(r, room.grid, 10 + 24, 10 + 75, z);
+  const ObjectSegment* leaf = SegmentAt(r, room.grid, 10 + 29, 10 + 75, 30);
+  const ObjectSegment* stool = SegmentAt(r, room.grid, 10 + 74, 10 + 55, z);
+  const ObjectSegment* cabinet = SegmentAt(r, room.grid, 10 + 86, 10 + 55, 30);
+  ASSERT_TRUE(toilet && leaf && stool && cabinet);
+  ASSERT_NE(toilet, leaf);
+  ASSERT_NE(stool, cabinet);
+  EXPECT_LT(leaf->features[kSegThickness], 0.2);
+  EXPECT_GT(cabinet->features[kSegThickness], 0.5);
+  EXPECT_EQ(toilet->features[kSegNeighbourRise], 0.f);
+  EXPECT_NEAR(stool->features[kSegNeighbourRise], 1.4, 0.051);  // 1.775 - 0.375 m
+  // Every adjacent part counts when thin ones are not left out.
+  SegmentOptions all;
+  all.rise_min_thickness_m = 0;
+  const SegmentationResult a = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, all);
+  EXPECT_NEAR(SegmentAt(a, room.grid, 10 + 24, 10 + 75, z)->features[kSegNeighbourRise], 1.6, 0.051);  // 1.975 - 0.375 m
+  EXPECT_NEAR(SegmentAt(a, room.grid, 10 + 74, 10 + 55, z)->features[kSegNeighbourRise], 1.4, 0.051);
+}
+
 TEST(ObjectSegments, RejectsBadOptions) {
   SegmentOptions o;
   o.wall_min_coverage = 0;
