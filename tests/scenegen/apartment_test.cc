@@ -247,6 +247,28 @@ TEST(ApartmentGenerator, ShapeVarietyAddsCornerSofasBarTablesAndBins) {
   EXPECT_EQ(without[2], 0);
 }
 
+// Upholstered sofas (shape variety): wide, high arms and deep back cushions, seen from above as a broad band at
+// 0.55-0.75 m around the seat; the plain generator's arms are 0.15 m wide and its back cushions 0.14 m deep.
+TEST(ApartmentGenerator, ShapeVarietyAddsUpholsteredSofas) {
+  auto upholstered = [](const Apartment& apt) {
+    std::set<int> sofas;
+    for (const SolidPart& p : apt.parts) {
+      if (p.structural || p.label != nyu40::kSofa) continue;
+      const double top = p.box.center.z() + p.box.size.z() / 2 - apt.floor_z_m;
+      if (top >= 0.55 && top <= 0.75 && std::min(p.box.size.x(), p.box.size.y()) >= 0.2) sofas.insert(p.instance);
+    }
+    return int(sofas.size());
+  };
+  int with = 0, without = 0;
+  for (int seed = 0; seed < kSeeds; ++seed) {
+    with += upholstered(Generate(uint64_t(seed), true));
+    without += upholstered(Generate(uint64_t(seed)));
+  }
+  EXPECT_GE(with, 3) << "upholstered sofas in " << kSeeds << " varied apartments";
+  EXPECT_EQ(without, 0);
+  std::printf("upholstered sofas: %d with shape variety, %d without\n", with, without);
+}
+
 TEST(ApartmentGenerator, ClosedRoomsAreSealedWithoutDoors) {
   // The flood fill above is meaningful: with the doors bricked up (their openings treated as walls),
   // no room but the first (and its open-plan partners) is reachable.
