@@ -304,6 +304,14 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
       const int rise = std::max(1, int(std::lround(0.2 / res)));
       std::vector<uint8_t> front(wall.size(), 0);
       const int dir[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+      // Whether column (x, y) is free over at least front_free_share of the wall band up to cell `top`.
+      const auto free_below = [&](int x, int y, int top) {
+        const int hi = std::min(band_hi, top);
+        if (hi < band_lo) return bool(free_column[size_t(y) * d[0] + x]);
+        int free = 0;
+        for (int z = band_lo; z <= hi; ++z) free += grid.state(grid.Index(x, y, z)) == VoxelState::kFree;
+        return free >= options.front_free_share * (hi - band_lo + 1);
+      };
       for (int y = 0; y < d[1]; ++y)
         for (int x = 0; x < d[0]; ++x) {
           const size_t i = size_t(y) * d[0] + x;
@@ -316,7 +324,9 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
               const int bx = x + k * u[0], by = y + k * u[1];
               if (bx < 0 || by < 0 || bx >= d[0] || by >= d[1]) break;
               const size_t j = size_t(by) * d[0] + bx;
-              if (free_column[j]) break;
+              // Room, not the inside: free below the front's top. Above a cabinet or fridge the scan sees
+              // free space over the top, which says nothing about its inside.
+              if (free_below(bx, by, column_top[i])) break;
               const bool higher = column_top[j] >= column_top[i] + rise;
               if (k >= k_min && higher) {
                 hit = true;

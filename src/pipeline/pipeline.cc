@@ -130,6 +130,11 @@ Status RoomsStage(const std::string& models_dir, PipelineResult* r) {
   r->room_types = std::move(typed).value();
   // What rooms.png holds (split-off areas with their new ids).
   AssignRooms(r->room_types->result.rooms.room_extent_ids, r->map.grid, &r->labels->map);
+  if (config.semantic.room_context) {
+    const size_t n = ApplyRoomContext(*r->room_types, &r->labels->map);
+    r->room_types->context_relabelled = n;
+    if (n > 0) SEMVOX_INFO("room context: " << n << " shower-curtain voxels outside bathrooms relabelled curtain");
+  }
   return Status::Ok();
 }
 }  // namespace

@@ -10,6 +10,24 @@
 
 namespace semvox {
 
+size_t ApplyRoomContext(const RoomTypesStageResult& typed, SemanticMap* map) {
+  static const int bathroom = RoomTypeIdByName("bathroom");
+  std::vector<int> type;  // Room id -> type id.
+  for (const RoomTypeAssignment& a : typed.result.assignments) {
+    if (a.id >= int(type.size())) type.resize(size_t(a.id) + 1, 0);
+    type[size_t(a.id)] = a.type_id;
+  }
+  size_t changed = 0;
+  for (SemanticVoxelRecord& r : map->occupied) {
+    if (r.label != nyu40::kShowerCurtain || r.room <= 0 || r.room >= int(type.size())) continue;
+    const int t = type[size_t(r.room)];
+    if (t == 0 || t == bathroom) continue;
+    r.label = nyu40::kCurtain;
+    ++changed;
+  }
+  return changed;
+}
+
 Result<RoomTypesStageResult> TypeRooms(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
                                        const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options,
                                        double max_enclosed_unknown_m2) {
@@ -71,6 +89,7 @@ nlohmann::ordered_json RoomTypesSummaryJson(const RoomTypesStageResult& typed) {
   j["fixture_absence_weight"] = options.fixture_absence_weight;
   j["views"] = typed.views;
   j["splits"] = result.splits;
+  j["room_context"] = {{"shower_curtains_relabelled_curtain", typed.context_relabelled}};
   j["seconds"] = std::round(result.seconds * 1e3) / 1e3;
   j["rooms"] = nlohmann::ordered_json::array();
   for (const RoomDescription& d : typed.described)

@@ -26,6 +26,7 @@
 #include "rooms/room_export.h"
 #include "rooms/room_segmentation.h"
 #include "rooms/room_type_crf.h"
+#include "voxelcrf/semantic_map.h"
 
 namespace semvox {
 
@@ -35,7 +36,14 @@ struct RoomTypesStageResult {
   RoomTypeCrfOptions options;               // As given (model paths, variant, shape weight).
   bool shapes_used = false;                 // The room-shape model was read.
   size_t views = 0;                         // Views of evidence.
+  size_t context_relabelled = 0;            // Voxels ApplyRoomContext relabelled (summary: room_context).
 };
+
+// Room context for the labels: shower-curtain voxels (NYU40 28) whose room (SemanticVoxelRecord::room, as
+// AssignRooms set it from typed.result.rooms) is typed other than bathroom become curtain (16). A shower
+// curtain is shaped as a curtain; the shape classifiers learn it from bathrooms, and a drawn curtain at a
+// window comes out shower curtain. Voxels outside every room keep their label. Returns the voxels relabelled.
+size_t ApplyRoomContext(const RoomTypesStageResult& typed, SemanticMap* map);
 
 // After the CRF, unseen pockets of at most `max_enclosed_unknown_m2` that one room encloses join it, with its
 // type (JoinEnclosedUnknown; 0 = none).

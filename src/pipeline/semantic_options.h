@@ -67,6 +67,9 @@ struct SemanticStageOptions {
   // a sink on a counter) gets its own NYU40 id when its shape says it is an object of its own
   // (objects/other_labels.h, models/item_labels.knn), after the "other" labels.
   bool item_labels = true;
+  // After the rooms are typed, shower-curtain voxels in a room not typed bathroom become curtain: a shower
+  // curtain's shape is a curtain's, only its room tells them apart (pipeline/room_types_stage.h).
+  bool room_context = true;
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
@@ -104,6 +107,9 @@ struct SemanticStageOptions {
                          "after the Voxel-CRF, what lies on an object segment above its top surface (a pillow on a bed, "
                          "books on a table, a sink on a counter) gets its own NYU40 id when its shape says it is an "
                          "object of its own (models/item_labels.knn); off: it keeps the furniture's label"),
+            OptionSwitch(&O::room_context, "room_context",
+                         "after the room types, shower-curtain voxels in a room not typed bathroom become curtain "
+                         "(the two differ by their room, not their shape); off: the Voxel-CRF's label stays"),
             OptionNumber(&O::classify_width, "classify_width", 16, 4096, "pixels",
                          "classification view width (the shipped classifiers are trained at 320)"),
             OptionNumber(&O::classify_height, "classify_height", 16, 4096, "pixels",

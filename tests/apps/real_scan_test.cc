@@ -28,8 +28,9 @@ namespace {
 // segments, and the voxels holding scan points kept occupied (semantic.keep_scan_points); before that
 // setting in brackets.
 constexpr double kMinFloorRecall = 0.95;    // Floor band labelled floor; measured 0.978 (0.985).
-constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.431 (0.546).
-constexpr double kMinMeanBoxRecall = 0.18;  // Mean over boxes holding voxels; measured 0.233 (2026-12-06), 0.222 with the doors and
+constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.361 (2026-12-06), 0.431 (0.546).
+constexpr double kMinMeanBoxRecall = 0.20;  // Mean over boxes holding voxels; measured 0.249 (2026-12-06, fronts seen over
+                                            // the top, curtains by their room), 0.233 before, 0.222 with the doors and
                                             // windows found in the walls (2026-12-05; 0.199 before the window pane
                                             // cut from unrecorded glass and the deeper pane voxels), 0.134 without,
                                             // 0.106 before.
@@ -44,11 +45,12 @@ const std::map<std::string, double> kMinClassRecall = {
     {"bed", 0.60},          // measured 0.794 (0.537)
     {"cabinet", 0.03},      // measured 0.065 with the segment model of 2026-12-06 (the kitchen's base cabinets), 0.002 before
     {"counter", 0.25},      // measured 0.432 (0.216)
-    {"curtain", 0.0},       // measured 0.000
+    {"curtain", 0.10},      // measured 0.179 since shower curtains outside bathrooms are curtains (2026-12-06), 0.000 before
     {"desk", 0.0},          // measured 0.000 (table voxels count)
     {"door", 0.50},         // measured 0.622 with the doors found in the walls (semantic.wall_openings), 0.163 without
     {"garbagebin", 0.0},    // measured 0.000
-    {"refrigerator", 0.25}, // measured 0.347 with the segment model of 2026-12-06, 0.771 with the one of 2026-12-02 (0.880)
+    {"refrigerator", 0.25}, // measured 0.458 with the segment model retrained on fronts seen over the top (2026-12-06), 0.347
+                            // with the one of earlier that day, 0.771 with the one of 2026-12-02 (0.880)
     {"sink", 0.0},          // measured 0.000
     {"sofa", 0.10},         // measured 0.171 (0.297)
     {"table", 0.05},        // measured 0.090 (0.055; desk voxels count)
@@ -178,7 +180,8 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   EXPECT_LT(toilet[0].second, kMaxBathroomArea) << "the toilet's room";
   std::printf("toilet in room %d (%.1f m2), bed in room %d (%.1f m2)\n", toilet[0].first, toilet[0].second, bed[0].first, bed[0].second);
   // The studio holds a bathroom and a kitchen (issue 16): the toilet's room is typed bathroom, the
-  // refrigerator's kitchen (measured 0.97 and 0.89).
+  // refrigerator's kitchen (measured 0.97 and 0.89; the kitchen corner is 9.0 of the 38.3 m² open room, split off
+  // since room_types.min_split_fraction is 0.2).
   auto type_of = [&](int id) {
     for (const auto& f : rooms["features"])
       if (f["properties"]["id"].get<int>() == id) return f["properties"]["type"].get<std::string>();

@@ -167,6 +167,31 @@ TEST(ObjectSegments, FurnitureFrontsAgainstAWallAreNotWall) {
   EXPECT_EQ(w.structure[room.grid.Index(10 + 25, 10 + 88, 20)], 3);
 }
 
+// A cabinet 1.5 m high and 0.6 m deep against the north wall, its inside never seen. The scan sees over its
+// top: the space above it is free over 36 % of the wall band, more than the 30 % that makes a column "room".
+// Only the band below the front's top says whether a column behind the front is the room or the cabinet's
+// inside, so the front is still found; the wall above and beside the cabinet stays wall.
+TEST(ObjectSegments, FurnitureFrontsAreFoundWhenTheScanSeesOverTheTop) {
+  Room room;
+  room.Clear(0, 0, 0.05, 6, 5, 2.5);                         // the room's free space, above the cabinet too
+  room.Fill(0.5, 4.4, 0.05, 1.7, 5.0, 1.5, /*shell=*/true);  // the cabinet, flush with the north wall
+  room.Clear(0.55, 4.45, 0.10, 1.65, 4.95, 1.45);            // its inside: never seen
+  for (int z = 2; z < 29; ++z)
+    for (int y = 10 + 89; y < 10 + 99; ++y)
+      for (int x = 10 + 11; x < 10 + 33; ++x) room.grid.set_state(room.grid.Index(x, y, z), VoxelState::kUnknown);
+  const double floor_z = room.FloorZ();
+  const SegmentationResult r = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, SegmentOptions{});
+  EXPECT_EQ(r.structure[room.grid.Index(10 + 20, 10 + 88, 20)], 0);  // cabinet front
+  EXPECT_NE(SegmentAt(r, room.grid, 10 + 20, 10 + 88, 20), nullptr);
+  EXPECT_EQ(r.structure[room.grid.Index(10 + 20, 10 + 100, 40)], 3); // north wall above the cabinet
+  EXPECT_EQ(r.structure[room.grid.Index(10 + 60, 10 + 100, 20)], 3); // north wall beside it
+  // The column over the cabinet is free over 36 % of the band: with the share counted over the whole band it
+  // would read as room, and the front as wall.
+  int free = 0, band = 0;
+  for (int z = 5; z <= 43; ++z, ++band) free += room.grid.state(room.grid.Index(10 + 20, 10 + 94, z)) == VoxelState::kFree;
+  EXPECT_GE(free, 0.3 * band);
+}
+
 // A closed door in an interior wall, the room behind it never seen (unknown), a ceiling slab over both rooms.
 // The ceiling over the unseen room is no furniture's back: with the ceiling found, the door, its lintel and
 // the wall stay wall. Without a found ceiling the slab counts as what stands behind, and the same geometry

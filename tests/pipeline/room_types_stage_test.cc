@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/labels.h"
 #include "pipeline/room_types_stage.h"
 
 namespace semvox {
@@ -149,6 +150,39 @@ TEST(RoomTypesStage, UnseenPocketJoinsTheRoomAroundItWithItsType) {
   };
   EXPECT_NEAR(area(*joined) - area(*kept), 36 * 0.05 * 0.05, 1e-9);
   fs::remove_all(dir);
+}
+
+// A shower curtain is shaped as a curtain: the room says which. Shower-curtain voxels in a room typed other
+// than bathroom become curtain; those in a bathroom, outside every room or in an untyped room keep their label,
+// and no other label changes.
+TEST(RoomTypesStage, ShowerCurtainsOutsideBathroomsBecomeCurtains) {
+  RoomTypesStageResult typed;
+  const int bathroom = RoomTypeIdByName("bathroom"), living = RoomTypeIdByName("living_room");
+  ASSERT_GT(bathroom, 0);
+  ASSERT_GT(living, 0);
+  typed.result.assignments.resize(3);
+  typed.result.assignments[0].id = 1, typed.result.assignments[0].type_id = living;
+  typed.result.assignments[1].id = 2, typed.result.assignments[1].type_id = bathroom;
+  typed.result.assignments[2].id = 3, typed.result.assignments[2].type_id = 0;
+  SemanticMap map;
+  const auto add = [&map](uint16_t label, int room) {
+    SemanticVoxelRecord r;
+    r.voxel = uint32_t(map.occupied.size());
+    r.label = label;
+    r.room = room;
+    map.occupied.push_back(r);
+  };
+  add(nyu40::kShowerCurtain, 1);  // living room: curtain
+  add(nyu40::kShowerCurtain, 2);  // bathroom: stays
+  add(nyu40::kShowerCurtain, -1); // outside every room: stays
+  add(nyu40::kShowerCurtain, 3);  // untyped room: stays
+  add(nyu40::kShowerCurtain, 7);  // a room id the typing does not know: stays
+  add(nyu40::kToilet, 1);         // other labels: untouched
+  add(nyu40::kCurtain, 2);
+  EXPECT_EQ(ApplyRoomContext(typed, &map), 1u);
+  const uint16_t want[] = {nyu40::kCurtain, nyu40::kShowerCurtain, nyu40::kShowerCurtain, nyu40::kShowerCurtain,
+                           nyu40::kShowerCurtain, nyu40::kToilet, nyu40::kCurtain};
+  for (size_t i = 0; i < map.occupied.size(); ++i) EXPECT_EQ(map.occupied[i].label, want[i]) << i;
 }
 
 }  // namespace
