@@ -131,7 +131,7 @@ Status RoomsStage(const std::string& models_dir, PipelineResult* r) {
   // What rooms.png holds (split-off areas with their new ids).
   AssignRooms(r->room_types->result.rooms.room_extent_ids, r->map.grid, &r->labels->map);
   if (config.semantic.room_context) {
-    const size_t n = ApplyRoomContext(*r->room_types, &r->labels->map);
+    const size_t n = ApplyRoomContext(*r->room_types, r->map.grid, &r->labels->map);
     r->room_types->context_relabelled = n;
     if (n > 0) SEMVOX_INFO("room context: " << n << " shower-curtain voxels outside bathrooms relabelled curtain");
   }

@@ -10,18 +10,51 @@
 
 namespace semvox {
 
-size_t ApplyRoomContext(const RoomTypesStageResult& typed, SemanticMap* map) {
+size_t ApplyRoomContext(const RoomTypesStageResult& typed, const VoxelGrid& grid, SemanticMap* map, double reach_m) {
   static const int bathroom = RoomTypeIdByName("bathroom");
   std::vector<int> type;  // Room id -> type id.
   for (const RoomTypeAssignment& a : typed.result.assignments) {
     if (a.id >= int(type.size())) type.resize(size_t(a.id) + 1, 0);
     type[size_t(a.id)] = a.type_id;
   }
+  const auto type_of = [&type](int room) { return room > 0 && room < int(type.size()) ? type[size_t(room)] : 0; };
+  const auto relabel = [&](int room) {
+    const int t = type_of(room);
+    return t != 0 && t != bathroom;
+  };
+  // The nearest room within reach of every cell of the room image (breadth first from the room cells), built
+  // only when a shower-curtain voxel lies outside every room.
+  const ImageU16& ids = typed.result.rooms.room_extent_ids;
+  ImageU16 nearest;
+  const auto near_room = [&](const SemanticVoxelRecord& r) {
+    if (nearest.width == 0) {
+      nearest = ids;
+      const int reach = int(std::floor(reach_m / grid.resolution() + 1e-9));
+      std::vector<std::pair<int, int>> frontier, next;
+      for (int y = 0; y < ids.height; ++y)
+        for (int x = 0; x < ids.width; ++x)
+          if (ids.at(x, y) > 0) frontier.push_back({x, y});
+      for (int step = 0; step < reach && !frontier.empty(); ++step) {
+        next.clear();
+        for (const auto& [x, y] : frontier)
+          for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= ids.width || yy >= ids.height || nearest.at(xx, yy) > 0) continue;
+            nearest.at(xx, yy) = nearest.at(x, y);
+            next.push_back({xx, yy});
+          }
+        frontier.swap(next);
+      }
+    }
+    const auto c = grid.Cell(r.voxel);
+    const int row = grid.dims()[1] - 1 - c[1];
+    if (c[0] < 0 || c[0] >= nearest.width || row < 0 || row >= nearest.height) return 0;
+    return int(nearest.at(c[0], row));
+  };
   size_t changed = 0;
   for (SemanticVoxelRecord& r : map->occupied) {
-    if (r.label != nyu40::kShowerCurtain || r.room <= 0 || r.room >= int(type.size())) continue;
-    const int t = type[size_t(r.room)];
-    if (t == 0 || t == bathroom) continue;
+    if (r.label != nyu40::kShowerCurtain) continue;
+    if (!relabel(r.room > 0 ? r.room : near_room(r))) continue;
     r.label = nyu40::kCurtain;
     ++changed;
   }
