@@ -1,5 +1,6 @@
 #include "pipeline/room_types_stage.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -10,6 +11,32 @@
 
 namespace semvox {
 
+namespace {
+
+// Every cell of `ids` that is no room (0) takes the room of the nearest room cell within `reach` 4-connected
+// steps (breadth first from all room cells at once); cells farther away stay 0.
+ImageU16 NearestRoomWithin(const ImageU16& ids, int reach) {
+  ImageU16 nearest = ids;
+  std::vector<std::pair<int, int>> frontier, next;
+  for (int y = 0; y < ids.height; ++y)
+    for (int x = 0; x < ids.width; ++x)
+      if (ids.at(x, y) > 0) frontier.push_back({x, y});
+  for (int step = 0; step < reach && !frontier.empty(); ++step) {
+    next.clear();
+    for (const auto& [x, y] : frontier)
+      for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+        const int xx = x + dx, yy = y + dy;
+        if (xx < 0 || yy < 0 || xx >= ids.width || yy >= ids.height || nearest.at(xx, yy) > 0) continue;
+        nearest.at(xx, yy) = nearest.at(x, y);
+        next.push_back({xx, yy});
+      }
+    frontier.swap(next);
+  }
+  return nearest;
+}
+
+}  // namespace
+
 size_t ApplyRoomContext(const RoomTypesStageResult& typed, const VoxelGrid& grid, SemanticMap* map, double reach_m) {
   static const int bathroom = RoomTypeIdByName("bathroom");
   std::vector<int> type;  // Room id -> type id.
@@ -17,44 +44,23 @@ size_t ApplyRoomContext(const RoomTypesStageResult& typed, const VoxelGrid& grid
     if (a.id >= int(type.size())) type.resize(size_t(a.id) + 1, 0);
     type[size_t(a.id)] = a.type_id;
   }
-  const auto type_of = [&type](int room) { return room > 0 && room < int(type.size()) ? type[size_t(room)] : 0; };
-  const auto relabel = [&](int room) {
-    const int t = type_of(room);
-    return t != 0 && t != bathroom;
-  };
-  // The nearest room within reach of every cell of the room image (breadth first from the room cells), built
-  // only when a shower-curtain voxel lies outside every room.
-  const ImageU16& ids = typed.result.rooms.room_extent_ids;
-  ImageU16 nearest;
-  const auto near_room = [&](const SemanticVoxelRecord& r) {
-    if (nearest.width == 0) {
-      nearest = ids;
-      const int reach = int(std::floor(reach_m / grid.resolution() + 1e-9));
-      std::vector<std::pair<int, int>> frontier, next;
-      for (int y = 0; y < ids.height; ++y)
-        for (int x = 0; x < ids.width; ++x)
-          if (ids.at(x, y) > 0) frontier.push_back({x, y});
-      for (int step = 0; step < reach && !frontier.empty(); ++step) {
-        next.clear();
-        for (const auto& [x, y] : frontier)
-          for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
-            const int xx = x + dx, yy = y + dy;
-            if (xx < 0 || yy < 0 || xx >= ids.width || yy >= ids.height || nearest.at(xx, yy) > 0) continue;
-            nearest.at(xx, yy) = nearest.at(x, y);
-            next.push_back({xx, yy});
-          }
-        frontier.swap(next);
-      }
-    }
-    const auto c = grid.Cell(r.voxel);
-    const int row = grid.dims()[1] - 1 - c[1];
-    if (c[0] < 0 || c[0] >= nearest.width || row < 0 || row >= nearest.height) return 0;
-    return int(nearest.at(c[0], row));
-  };
+  // Voxels outside every room look up the nearest room, on the room image when one of them is a shower curtain.
+  const bool outside = std::any_of(map->occupied.begin(), map->occupied.end(), [](const SemanticVoxelRecord& r) {
+    return r.label == nyu40::kShowerCurtain && r.room <= 0;
+  });
+  const ImageU16 nearest =
+      outside ? NearestRoomWithin(typed.result.rooms.room_extent_ids, int(std::floor(reach_m / grid.resolution() + 1e-9))) : ImageU16();
   size_t changed = 0;
   for (SemanticVoxelRecord& r : map->occupied) {
     if (r.label != nyu40::kShowerCurtain) continue;
-    if (!relabel(r.room > 0 ? r.room : near_room(r))) continue;
+    int room = r.room;
+    if (room <= 0) {
+      const auto c = grid.Cell(r.voxel);
+      const int row = grid.dims()[1] - 1 - c[1];
+      if (c[0] >= 0 && c[0] < nearest.width && row >= 0 && row < nearest.height) room = nearest.at(c[0], row);
+    }
+    const int t = room > 0 && room < int(type.size()) ? type[size_t(room)] : 0;
+    if (t == 0 || t == bathroom) continue;
     r.label = nyu40::kCurtain;
     ++changed;
   }
