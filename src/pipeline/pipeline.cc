@@ -245,6 +245,7 @@ Result<PipelineResult> RunPipeline(const std::string& input, const PipelineOptio
     semantic.reset();
     r.labels.emplace();
     SEMVOX_RETURN_IF_ERROR(SolveSemantic(map, *r.evidence, r.models->crf, config.semantic.crf, &*r.labels));
+    if (config.semantic.floor_surface) ApplyFloorSurface(map, config.semantic.floor_surface_margin_m, &*r.labels);
     if (config.semantic.other_labels && r.models->other)
       ApplyOtherLabels(map, *r.evidence, r.models->crf, *r.models->other, kOtherMinVoxels, &*r.labels);
     if (config.semantic.item_labels && r.models->items) ApplyItemLabels(map, *r.evidence, *r.models->items, kOtherMinVoxels, &*r.labels);

@@ -70,6 +70,10 @@ struct SemanticStageOptions {
   // After the rooms are typed, shower-curtain voxels in a room not typed bathroom become curtain: a shower
   // curtain's shape is a curtain's, only its room tells them apart (pipeline/room_types_stage.h).
   bool room_context = true;
+  // The floor is a surface: floor voxels wholly above it (their bottom floor_surface_margin_m or more above the
+  // floor) take the label of what stands above or beside them, after the Voxel-CRF (pipeline/semantic_solve.h).
+  bool floor_surface = true;
+  double floor_surface_margin_m = 0.03;
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
@@ -110,6 +114,12 @@ struct SemanticStageOptions {
             OptionSwitch(&O::room_context, "room_context",
                          "after the room types, shower-curtain voxels in a room not typed bathroom become curtain "
                          "(the two differ by their room, not their shape); off: the Voxel-CRF's label stays"),
+            OptionSwitch(&O::floor_surface, "floor_surface",
+                         "after the Voxel-CRF, floor voxels lying wholly above the floor's surface (the bottoms of walls "
+                         "and furniture) take the label of the voxel above them or of most of their neighbours; off: "
+                         "the Voxel-CRF's label stays"),
+            OptionNumber(&O::floor_surface_margin_m, "floor_surface_margin_m", 0, 0.5, "metres",
+                         "how far above the floor a voxel's bottom must lie for floor_surface (the floor's scan noise)"),
             OptionNumber(&O::classify_width, "classify_width", 16, 4096, "pixels",
                          "classification view width (the shipped classifiers are trained at 320)"),
             OptionNumber(&O::classify_height, "classify_height", 16, 4096, "pixels",

@@ -28,6 +28,7 @@ struct SemanticLabels {
   int item_groups = 0;                // ApplyItemLabels: items on top of segments given an NYU40 id of their own,
   size_t item_voxels = 0;             // and the voxels it relabelled.
   double seconds_items = 0;
+  size_t floor_surface_voxels = 0;    // ApplyFloorSurface: floor voxels above the floor's surface relabelled.
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
@@ -47,6 +48,13 @@ void ApplyOtherLabels(const VoxelMap& map, const SemanticEvidence& evidence, con
 // evidence.segmentation.
 void ApplyItemLabels(const VoxelMap& map, const SemanticEvidence& evidence, const ItemLabeller& labeller, int min_voxels,
                      SemanticLabels* labels);
+
+// The floor is a surface: a voxel labelled floor that lies wholly above it (its bottom at least `margin_m`
+// above map.floor_z, i.e. beyond the floor's scan noise) holds the bottom of what stands there, a wall's or
+// a piece of furniture's. It takes the label of the first of the two voxels above it that is labelled and
+// neither floor nor ceiling, else the most frequent such label among its 26 neighbours, else stays floor.
+// Voxels are visited from the top down, so a relabelled voxel passes its label on to the one below it.
+void ApplyFloorSurface(const VoxelMap& map, double margin_m, SemanticLabels* labels);
 
 // Doors and windows of the map's walls (objects/wall_openings.h) relabel the labelled voxels of their pane or
 // closed leaf that came out wall, door or window, and every voxel of an open leaf but floor and ceiling.
