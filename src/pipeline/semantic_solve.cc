@@ -101,44 +101,40 @@ void ApplyFloorSurface(const VoxelMap& map, double margin_m, SemanticLabels* lab
   auto usable = [](const SemanticVoxelRecord* r) {
     return r && r->label != 0 && r->label != nyu40::kFloor && r->label != nyu40::kCeiling;
   };
-  // The labels of the two voxels above voxel c (nearest first), then of its 26 neighbours, that are usable.
-  auto neighbour_labels = [&](const std::array<int, 3>& c, std::vector<int>* above, std::vector<int>* around) {
-    above->clear(), around->clear();
+  auto record = [&](int x, int y, int z) -> const SemanticVoxelRecord* {
+    return grid.Contains(x, y, z) ? labels->map.Find(uint32_t(grid.Index(x, y, z))) : nullptr;
+  };
+  // The label of what stands on voxel c: the first usable of the two voxels above it, else the most frequent
+  // usable label of its 26 neighbours (the smallest id on a tie), else 0.
+  auto standing_label = [&](const std::array<int, 3>& c) {
     for (int dz = 1; dz <= 2; ++dz)
-      if (grid.Contains(c[0], c[1], c[2] + dz))
-        if (const SemanticVoxelRecord* r = labels->map.Find(uint32_t(grid.Index(c[0], c[1], c[2] + dz))); usable(r))
-          above->push_back(r->label);
+      if (const SemanticVoxelRecord* r = record(c[0], c[1], c[2] + dz); usable(r)) return int(r->label);
+    std::vector<int> around;
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          if ((dx | dy | dz) == 0 || !grid.Contains(c[0] + dx, c[1] + dy, c[2] + dz)) continue;
-          const SemanticVoxelRecord* r = labels->map.Find(uint32_t(grid.Index(c[0] + dx, c[1] + dy, c[2] + dz)));
-          if (usable(r)) around->push_back(r->label);
-        }
+        for (int dx = -1; dx <= 1; ++dx)
+          if (const SemanticVoxelRecord* r = record(c[0] + dx, c[1] + dy, c[2] + dz); (dx | dy | dz) != 0 && usable(r))
+            around.push_back(r->label);
+    std::sort(around.begin(), around.end());
+    int label = 0, best = 0;
+    for (size_t i = 0; i < around.size();) {
+      size_t j = i;
+      while (j < around.size() && around[j] == around[i]) ++j;
+      if (int(j - i) > best) best = int(j - i), label = around[i];
+      i = j;
+    }
+    return label;
   };
-  std::vector<int> above, around;
-  std::vector<uint32_t> lifted;  // Floor voxels wholly above the floor's surface.
+  std::vector<uint32_t> lifted;  // Floor voxels wholly above the floor's surface, visited top down.
   for (const SemanticVoxelRecord& v : labels->map.occupied)
     if (v.label == nyu40::kFloor && double(v.centre.z()) - 0.5 * res >= map.floor_z + margin_m) lifted.push_back(v.voxel);
   std::stable_sort(lifted.begin(), lifted.end(), [&](uint32_t a, uint32_t b) { return grid.Cell(a)[2] > grid.Cell(b)[2]; });
   labels->floor_surface_voxels = 0;
-  for (uint32_t voxel : lifted) {
-    neighbour_labels(grid.Cell(voxel), &above, &around);
-    int label = above.empty() ? 0 : above.front();
-    if (!label) {  // The most frequent label around it (the smallest id on a tie).
-      std::sort(around.begin(), around.end());
-      int best = 0;
-      for (size_t i = 0; i < around.size();) {
-        size_t j = i;
-        while (j < around.size() && around[j] == around[i]) ++j;
-        if (int(j - i) > best) best = int(j - i), label = around[i];
-        i = j;
-      }
+  for (uint32_t voxel : lifted)
+    if (const int label = standing_label(grid.Cell(voxel))) {
+      labels->map.Find(voxel)->label = uint16_t(label);
+      ++labels->floor_surface_voxels;
     }
-    if (!label) continue;
-    labels->map.Find(voxel)->label = uint16_t(label);
-    ++labels->floor_surface_voxels;
-  }
   SEMVOX_INFO("floor surface: " << labels->floor_surface_voxels << " of " << lifted.size() << " floor voxels "
                                 << margin_m << " m or more above the floor relabelled");
 }
