@@ -94,7 +94,6 @@ PipelineSummary SummarizePipeline(const PipelineResult& r, const StageTimes& sec
                 {"surface_voxels_seen", views.seen_surface_voxels}};
   if (r.labels) {
     s["semantic"] = SemanticSummaryJson(config.semantic, *r.models, *r.evidence, *r.labels);
-    if (config.semantic.floor_surface) s["semantic"]["floor_surface"] = {{"relabelled_voxels", r.labels->floor_surface_voxels}};
     if (config.semantic.wall_openings) {
       // Each door and window: its centre on the wall's face and its normal into the room, input frame.
       const double res = map.grid.resolution();

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/labels.h"
+#include "core/majority.h"
 #include "core/log.h"
 #include "objects/object_segments.h"
 #include "objects/other_labels.h"
@@ -115,15 +116,7 @@ void ApplyFloorSurface(const VoxelMap& map, double margin_m, SemanticLabels* lab
         for (int dx = -1; dx <= 1; ++dx)
           if (const SemanticVoxelRecord* r = record(c[0] + dx, c[1] + dy, c[2] + dz); (dx | dy | dz) != 0 && usable(r))
             around.push_back(r->label);
-    std::sort(around.begin(), around.end());
-    int label = 0, best = 0;
-    for (size_t i = 0; i < around.size();) {
-      size_t j = i;
-      while (j < around.size() && around[j] == around[i]) ++j;
-      if (int(j - i) > best) best = int(j - i), label = around[i];
-      i = j;
-    }
-    return label;
+    return around.empty() ? 0 : Majority(&around);
   };
   std::vector<uint32_t> lifted;  // Floor voxels wholly above the floor's surface, visited top down.
   for (const SemanticVoxelRecord& v : labels->map.occupied)

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/labels.h"
+#include "core/majority.h"
 #include "report/html_text.h"
 #include "report/report.h"
 
@@ -53,21 +54,6 @@ void SortAndDeduplicate(std::vector<View3dCell>* cells, const std::array<int32_t
                    [&](const View3dCell& a, const View3dCell& b) { return CellKey(a.ijk, dims) < CellKey(b.ijk, dims); });
   cells->erase(std::unique(cells->begin(), cells->end(), [](const View3dCell& a, const View3dCell& b) { return a.ijk == b.ijk; }),
                cells->end());
-}
-
-// The most frequent value (ties: the smallest).
-template <typename T>
-T Majority(std::vector<T>* values) {
-  std::sort(values->begin(), values->end());
-  T best = (*values)[0];
-  size_t best_run = 0;
-  for (size_t i = 0; i < values->size();) {
-    size_t j = i;
-    while (j < values->size() && (*values)[j] == (*values)[i]) ++j;
-    if (j - i > best_run) best_run = j - i, best = (*values)[i];
-    i = j;
-  }
-  return best;
 }
 
 bool FitsThePage(const View3dVoxels& v, size_t max_cells) {
