@@ -423,9 +423,12 @@ int Sofa(RoomFurnisher* f, Pose* pose, double* depth) {
   const int id = b->Begin(kSofa, f->room(), p);
   const Rgb8 c = Vary(r->Pick(kFabric), r, 20);
   // Shape variety: upholstered sofas with wide, high arms and a deep back and back cushions (a real scan sees
-  // their tops as a broad band at 0.65-0.8 m around the seat). Drawn from a generator of their own, seeded by
-  // the sofa's size, so that the rest of the apartment is the same as without them.
+  // their tops as a broad band at 0.65-0.8 m around the seat), and sectionals: a corner sofa whose back runs
+  // on along the chaise's outer side instead of an arm (an L of backs around an L-shaped seat). Drawn from a
+  // generator of their own, seeded by the sofa's size, so that the rest of the apartment is the same as
+  // without them.
   double arm = 0.15, arm_h = 0.6, back_d = 0.2, cushion_d = 0.14, cushion_top = back - 0.05;
+  bool sectional = false;  // A corner sofa whose chaise has a back along its outer side: an L of backs.
   if (f->variety()) {
     uint64_t h = 0x9e3779b97f4a7c15ull;
     for (double v : {w, d, back}) h = (h ^ std::hash<double>{}(v)) * 0x100000001b3ull;
@@ -434,34 +437,47 @@ int Sofa(RoomFurnisher* f, Pose* pose, double* depth) {
       arm = u.Uniform(0.15, 0.35), arm_h = u.Uniform(0.55, 0.72);
       back_d = u.Uniform(0.2, 0.3), cushion_d = u.Uniform(0.18, 0.35), cushion_top = back - u.Uniform(0.05, 0.15);
     }
+    sectional = corner && u.Bernoulli(0.6);
   }
   const double y0 = -D / 2, hw = wide / 2;
   const double base = cushions ? seat - 0.12 : seat;
-  b->Box(-hw + arm, y0 + back_d, 0, hw - arm, y0 + d, base, c, true);
+  // A sectional's chaise side has its back, not an arm (below).
+  const double left = sectional && chaise_side < 0 ? back_d : arm, right = sectional && chaise_side > 0 ? back_d : arm;
+  b->Box(-hw + left, y0 + back_d, 0, hw - right, y0 + d, base, c, true);
   b->Box(-hw, y0, 0, hw, y0 + back_d, back, c, true);
-  b->Box(-hw, y0 + back_d, 0, -hw + arm, y0 + d, arm_h, c, true);
-  b->Box(hw - arm, y0 + back_d, 0, hw, y0 + d, arm_h, c, true);
-  if (corner) {  // The chaise: seat and an arm along its outer side, no back.
+  if (!(sectional && chaise_side < 0)) b->Box(-hw, y0 + back_d, 0, -hw + arm, y0 + d, arm_h, c, true);
+  if (!(sectional && chaise_side > 0)) b->Box(hw - arm, y0 + back_d, 0, hw, y0 + d, arm_h, c, true);
+  if (corner) {  // The chaise: seat and an arm along its outer side (a sectional's: its back), no back of its own.
     const double x0 = chaise_side > 0 ? hw - chaise_w : -hw, x1 = chaise_side > 0 ? hw : -hw + chaise_w;
     const double ax0 = chaise_side > 0 ? x1 - arm : x0, ax1 = chaise_side > 0 ? x1 : x0 + arm;
     b->Box(x0, y0 + d, 0, x1, D / 2, base, c, true);
-    b->Box(ax0, y0 + d, 0, ax1, D / 2, arm_h, c, true);
+    if (sectional) {  // The outer side's back runs on along the chaise, as deep as the main back.
+      const double bx0 = chaise_side > 0 ? hw - back_d : -hw, bx1 = chaise_side > 0 ? hw : -hw + back_d;
+      b->Box(bx0, y0 + back_d, 0, bx1, D / 2, back, c, true);
+    } else {
+      b->Box(ax0, y0 + d, 0, ax1, D / 2, arm_h, c, true);
+    }
   }
   if (cushions) {  // Seat cushions, 2-4 of them, with 2 cm gaps, slightly lighter or darker.
     const Rgb8 cc = Vary(c, r, 12);
     const int n = r->UniformInt(2, 4);
-    const double x0 = -hw + arm, step = (wide - 2 * arm) / n;
+    const double x0 = -hw + left, step = (wide - left - right) / n;
     for (int i = 0; i < n; ++i) b->Box(x0 + i * step + 0.01, y0 + back_d + 0.02, base, x0 + (i + 1) * step - 0.01, y0 + d, seat, cc);
     if (corner) {
-      const double cx0 = chaise_side > 0 ? hw - chaise_w : -hw + arm, cx1 = chaise_side > 0 ? hw - arm : -hw + chaise_w;
+      const double side = sectional ? back_d : arm;
+      const double cx0 = chaise_side > 0 ? hw - chaise_w : -hw + side, cx1 = chaise_side > 0 ? hw - side : -hw + chaise_w;
       b->Box(cx0 + 0.01, y0 + d + 0.01, base, cx1 - 0.01, D / 2, seat, cc);
+      if (sectional) {  // Back cushions leaning on the chaise's back.
+        const double kx0 = chaise_side > 0 ? hw - back_d - cushion_d : -hw + back_d, kx1 = chaise_side > 0 ? hw - back_d : -hw + back_d + cushion_d;
+        b->Box(kx0, y0 + d + 0.02, seat, kx1, D / 2 - 0.02, cushion_top, cc);
+      }
     }
     for (int i = 0; i < n; ++i)  // Back cushions leaning on the back.
       b->Box(x0 + i * step + 0.02, y0 + back_d, seat, x0 + (i + 1) * step - 0.02, y0 + back_d + cushion_d, cushion_top, cc);
   }
   Finish(f);
   for (int i = 0, n = r->UniformInt(0, 2); i < n; ++i) {
-    const double cx = (i == 0 ? -1 : 1) * (hw - arm - 0.3);
+    const double cx = (i == 0 ? -1 : 1) * (hw - (i == 0 ? left : right) - 0.3);
     b->Begin(kPillow, f->room(), p, id);
     const double py = y0 + back_d + (cushions ? cushion_d + 0.01 : 0.0);  // In front of the back cushions.
     b->Box(cx - 0.22, py, seat, cx + 0.22, py + 0.15, seat + 0.4, Vary(r->Pick(kBright), r));

@@ -6,6 +6,8 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "core/file_util.h"
@@ -267,6 +269,33 @@ TEST(ApartmentGenerator, ShapeVarietyAddsUpholsteredSofas) {
   EXPECT_GE(with, 3) << "upholstered sofas in " << kSeeds << " varied apartments";
   EXPECT_EQ(without, 0);
   std::printf("upholstered sofas: %d with shape variety, %d without\n", with, without);
+}
+
+// Sectionals (shape variety): a corner sofa whose back runs on along the chaise's outer side, so that its
+// backs form an L (the ScanNet studio's sofa), seen as two back-high parts (0.77 m or more, at most 0.31 m
+// deep) at right angles; a plain corner sofa has one back and the plain generator none of either.
+TEST(ApartmentGenerator, ShapeVarietyAddsSectionalSofas) {
+  auto sectionals = [](const Apartment& apt) {
+    std::map<int, std::vector<bool>> backs;  // Per sofa: whether each back runs along x.
+    for (const SolidPart& p : apt.parts) {
+      if (p.structural || p.label != nyu40::kSofa) continue;
+      const Eigen::Vector3d& s = p.box.size;
+      const double top = p.box.center.z() + s.z() / 2 - apt.floor_z_m;
+      if (top >= 0.77 && std::min(s.x(), s.y()) <= 0.31 && std::max(s.x(), s.y()) >= 0.6) backs[p.instance].push_back(s.x() > s.y());
+    }
+    int n = 0;
+    for (const auto& [instance, along_x] : backs)
+      n += std::count(along_x.begin(), along_x.end(), true) > 0 && std::count(along_x.begin(), along_x.end(), false) > 0;
+    return n;
+  };
+  int with = 0, without = 0;
+  for (int seed = 0; seed < kSeeds; ++seed) {
+    with += sectionals(Generate(uint64_t(seed), true));
+    without += sectionals(Generate(uint64_t(seed)));
+  }
+  EXPECT_GE(with, 2) << "sectional sofas in " << kSeeds << " varied apartments";
+  EXPECT_EQ(without, 0);
+  std::printf("sectional sofas: %d with shape variety, %d without\n", with, without);
 }
 
 TEST(ApartmentGenerator, ClosedRoomsAreSealedWithoutDoors) {
