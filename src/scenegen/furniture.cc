@@ -1,10 +1,12 @@
 // Furniture by room type, built from boxes with real-world sizes, and small props on support surfaces.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <utility>
 
+#include "core/hash.h"
 #include "core/labels.h"
 #include "scenegen/apartment_builder.h"
 
@@ -836,8 +838,32 @@ void Bathroom(RoomFurnisher* f) {
   // Toilet: bowl and tank.
   if (f->PlaceAgainstWall(0.4, 0.68, 0.8, {}, 0.5, &p)) {
     b->Begin(kToilet, f->room(), p);
-    b->Box(-0.19, -0.16, 0, 0.19, 0.34, 0.42, kWhite, true);
-    b->Box(-0.2, -0.34, 0.0, 0.2, -0.16, 0.8, kWhite, true);
+    if (f->variety()) {
+      // Shape variety: a bowl on a narrower pedestal (a real scan sees the bowl's rim overhang it) or hung on
+      // the wall with a low cistern, seats 0.38-0.45 m high, tanks of several sizes, the lid up on a quarter.
+      // Drawn from a generator of its own, seeded by the toilet's pose, so that the rest of the apartment is
+      // the same as without it. Everything stays inside the placed 0.4 x 0.68 x 0.8 m.
+      uint64_t h = 0x70113e7ull;
+      for (double v : {p.x, p.y, p.yaw}) h = HashCombine(h, std::bit_cast<uint64_t>(v));
+      Rng u(h);
+      const double bw = u.Uniform(0.34, 0.4), front = u.Uniform(0.26, 0.34), seat = u.Uniform(0.38, 0.45);
+      const double tank_d = u.Uniform(0.13, 0.18), tank_w = u.Uniform(0.32, 0.4);
+      const bool hung = u.Bernoulli(0.3), lid_up = u.Bernoulli(0.25);
+      const double back = -0.34 + tank_d;  // Where the bowl meets the tank.
+      if (hung) {
+        b->Box(-bw / 2, back, seat - u.Uniform(0.2, 0.26), bw / 2, front, seat, kWhite, true);
+        b->Box(-tank_w / 2, -0.34, seat + 0.05, tank_w / 2, back, seat + u.Uniform(0.2, 0.3), kWhite, true);
+      } else {
+        const double pw = u.Uniform(0.18, 0.26), rim = u.Uniform(0.08, 0.14);
+        b->Box(-pw / 2, back, 0, pw / 2, front - u.Uniform(0.08, 0.14), seat - rim, kWhite, true);
+        b->Box(-bw / 2, back, seat - rim, bw / 2, front, seat, kWhite, true);
+        b->Box(-tank_w / 2, -0.34, 0, tank_w / 2, back, u.Uniform(0.68, 0.8), kWhite, true);
+      }
+      if (lid_up) b->Box(-bw / 2 + 0.02, back, seat, bw / 2 - 0.02, back + 0.04, std::min(0.8, seat + 0.38), kWhite, true);
+    } else {
+      b->Box(-0.19, -0.16, 0, 0.19, 0.34, 0.42, kWhite, true);
+      b->Box(-0.2, -0.34, 0.0, 0.2, -0.16, 0.8, kWhite, true);
+    }
     Finish(f);
   }
   // Vanity with a sink, a mirror above it.

@@ -298,6 +298,43 @@ TEST(ApartmentGenerator, ShapeVarietyAddsSectionalSofas) {
   std::printf("sectional sofas: %d with shape variety, %d without\n", with, without);
 }
 
+// Toilets (shape variety): hung on the wall (no part on the floor) or a bowl over a narrower pedestal (under
+// 0.27 m where the bowl is 0.34-0.4 m), with seats of several heights; the plain generator's toilet is one bowl
+// box 0.42 m high on the floor and its tank.
+TEST(ApartmentGenerator, ShapeVarietyVariesToilets) {
+  auto toilets = [](const Apartment& apt, int* hung, int* pedestal, std::set<int>* seat_cm) {
+    std::map<int, std::vector<const SolidPart*>> parts;
+    for (const SolidPart& p : apt.parts)
+      if (!p.structural && p.label == nyu40::kToilet) parts[p.instance].push_back(&p);
+    for (const auto& [instance, ps] : parts) {
+      double lowest = 1e9, narrowest = 1e9, widest = 0, seat = 0;
+      for (const SolidPart* p : ps) {
+        const Eigen::Vector3d& s = p->box.size;
+        const double bottom = p->box.center.z() - s.z() / 2 - apt.floor_z_m, top = bottom + s.z();
+        lowest = std::min(lowest, bottom);
+        if (bottom < 0.01 && top < 0.5) narrowest = std::min(narrowest, std::min(s.x(), s.y()));  // Not the tank.
+        if (top < 0.5) seat = std::max(seat, top), widest = std::max(widest, std::min(s.x(), s.y()));
+      }
+      *hung += lowest > 0.1;
+      *pedestal += lowest < 0.01 && narrowest < 0.27;
+      if (seat > 0) seat_cm->insert(int(std::lround(seat * 100)));
+    }
+  };
+  int hung = 0, pedestal = 0, plain_hung = 0, plain_pedestal = 0;
+  std::set<int> seats, plain_seats;
+  for (int seed = 0; seed < kSeeds; ++seed) {
+    toilets(Generate(uint64_t(seed), true), &hung, &pedestal, &seats);
+    toilets(Generate(uint64_t(seed)), &plain_hung, &plain_pedestal, &plain_seats);
+  }
+  EXPECT_GE(hung, 2);
+  EXPECT_GE(pedestal, 4);
+  EXPECT_GE(seats.size(), 4u);
+  EXPECT_EQ(plain_hung, 0);
+  EXPECT_EQ(plain_pedestal, 0);
+  EXPECT_EQ(plain_seats, std::set<int>{42});
+  std::printf("toilets with shape variety: %d hung, %d on a pedestal, %zu seat heights\n", hung, pedestal, seats.size());
+}
+
 TEST(ApartmentGenerator, ClosedRoomsAreSealedWithoutDoors) {
   // The flood fill above is meaningful: with the doors bricked up (their openings treated as walls),
   // no room but the first (and its open-plan partners) is reachable.
