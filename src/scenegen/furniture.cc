@@ -443,12 +443,13 @@ int Sofa(RoomFurnisher* f, Pose* pose, double* depth) {
   }
   const double y0 = -D / 2, hw = wide / 2;
   const double base = cushions ? seat - 0.12 : seat;
-  // A sectional's chaise side has its back, not an arm (below).
-  const double left = sectional && chaise_side < 0 ? back_d : arm, right = sectional && chaise_side > 0 ? back_d : arm;
+  // A sectional's chaise side has its back, not an arm (below); left / right: how far the seat starts inside.
+  const bool back_left = sectional && chaise_side < 0, back_right = sectional && chaise_side > 0;
+  const double left = back_left ? back_d : arm, right = back_right ? back_d : arm;
   b->Box(-hw + left, y0 + back_d, 0, hw - right, y0 + d, base, c, true);
   b->Box(-hw, y0, 0, hw, y0 + back_d, back, c, true);
-  if (!(sectional && chaise_side < 0)) b->Box(-hw, y0 + back_d, 0, -hw + arm, y0 + d, arm_h, c, true);
-  if (!(sectional && chaise_side > 0)) b->Box(hw - arm, y0 + back_d, 0, hw, y0 + d, arm_h, c, true);
+  if (!back_left) b->Box(-hw, y0 + back_d, 0, -hw + arm, y0 + d, arm_h, c, true);
+  if (!back_right) b->Box(hw - arm, y0 + back_d, 0, hw, y0 + d, arm_h, c, true);
   if (corner) {  // The chaise: seat and an arm along its outer side (a sectional's: its back), no back of its own.
     const double x0 = chaise_side > 0 ? hw - chaise_w : -hw, x1 = chaise_side > 0 ? hw : -hw + chaise_w;
     const double ax0 = chaise_side > 0 ? x1 - arm : x0, ax1 = chaise_side > 0 ? x1 : x0 + arm;
@@ -466,8 +467,7 @@ int Sofa(RoomFurnisher* f, Pose* pose, double* depth) {
     const double x0 = -hw + left, step = (wide - left - right) / n;
     for (int i = 0; i < n; ++i) b->Box(x0 + i * step + 0.01, y0 + back_d + 0.02, base, x0 + (i + 1) * step - 0.01, y0 + d, seat, cc);
     if (corner) {
-      const double side = sectional ? back_d : arm;
-      const double cx0 = chaise_side > 0 ? hw - chaise_w : -hw + side, cx1 = chaise_side > 0 ? hw - side : -hw + chaise_w;
+      const double cx0 = chaise_side > 0 ? hw - chaise_w : -hw + left, cx1 = chaise_side > 0 ? hw - right : -hw + chaise_w;
       b->Box(cx0 + 0.01, y0 + d + 0.01, base, cx1 - 0.01, D / 2, seat, cc);
       if (sectional) {  // Back cushions leaning on the chaise's back.
         const double kx0 = chaise_side > 0 ? hw - back_d - cushion_d : -hw + back_d, kx1 = chaise_side > 0 ? hw - back_d : -hw + back_d + cushion_d;

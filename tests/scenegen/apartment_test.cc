@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "core/file_util.h"
 #include "core/labels.h"
@@ -249,6 +250,17 @@ TEST(ApartmentGenerator, ShapeVarietyAddsCornerSofasBarTablesAndBins) {
   EXPECT_EQ(without[2], 0);
 }
 
+// count(apartment) summed over the kSeeds apartments with shape variety, and over the same seeds without it.
+template <class Count>
+std::pair<int, int> CountVariedAndPlain(const Count& count) {
+  int varied = 0, plain = 0;
+  for (int seed = 0; seed < kSeeds; ++seed) {
+    varied += count(Generate(uint64_t(seed), true));
+    plain += count(Generate(uint64_t(seed)));
+  }
+  return {varied, plain};
+}
+
 // Upholstered sofas (shape variety): wide, high arms and deep back cushions, seen from above as a broad band at
 // 0.55-0.75 m around the seat; the plain generator's arms are 0.15 m wide and its back cushions 0.14 m deep.
 TEST(ApartmentGenerator, ShapeVarietyAddsUpholsteredSofas) {
@@ -261,11 +273,7 @@ TEST(ApartmentGenerator, ShapeVarietyAddsUpholsteredSofas) {
     }
     return int(sofas.size());
   };
-  int with = 0, without = 0;
-  for (int seed = 0; seed < kSeeds; ++seed) {
-    with += upholstered(Generate(uint64_t(seed), true));
-    without += upholstered(Generate(uint64_t(seed)));
-  }
+  const auto [with, without] = CountVariedAndPlain(upholstered);
   EXPECT_GE(with, 3) << "upholstered sofas in " << kSeeds << " varied apartments";
   EXPECT_EQ(without, 0);
   std::printf("upholstered sofas: %d with shape variety, %d without\n", with, without);
@@ -288,11 +296,7 @@ TEST(ApartmentGenerator, ShapeVarietyAddsSectionalSofas) {
       n += std::count(along_x.begin(), along_x.end(), true) > 0 && std::count(along_x.begin(), along_x.end(), false) > 0;
     return n;
   };
-  int with = 0, without = 0;
-  for (int seed = 0; seed < kSeeds; ++seed) {
-    with += sectionals(Generate(uint64_t(seed), true));
-    without += sectionals(Generate(uint64_t(seed)));
-  }
+  const auto [with, without] = CountVariedAndPlain(sectionals);
   EXPECT_GE(with, 2) << "sectional sofas in " << kSeeds << " varied apartments";
   EXPECT_EQ(without, 0);
   std::printf("sectional sofas: %d with shape variety, %d without\n", with, without);
@@ -307,13 +311,13 @@ TEST(ApartmentGenerator, ShapeVarietyVariesToilets) {
     for (const SolidPart& p : apt.parts)
       if (!p.structural && p.label == nyu40::kToilet) parts[p.instance].push_back(&p);
     for (const auto& [instance, ps] : parts) {
-      double lowest = 1e9, narrowest = 1e9, widest = 0, seat = 0;
+      double lowest = 1e9, narrowest = 1e9, seat = 0;
       for (const SolidPart* p : ps) {
         const Eigen::Vector3d& s = p->box.size;
         const double bottom = p->box.center.z() - s.z() / 2 - apt.floor_z_m, top = bottom + s.z();
         lowest = std::min(lowest, bottom);
         if (bottom < 0.01 && top < 0.5) narrowest = std::min(narrowest, std::min(s.x(), s.y()));  // Not the tank.
-        if (top < 0.5) seat = std::max(seat, top), widest = std::max(widest, std::min(s.x(), s.y()));
+        if (top < 0.5) seat = std::max(seat, top);
       }
       *hung += lowest > 0.1;
       *pedestal += lowest < 0.01 && narrowest < 0.27;
