@@ -184,6 +184,7 @@ int main(int argc, char** argv) {
     else if (a == "--wall-length") so.wall_min_length_m = std::atof(argv[i + 1]);
     else if (a == "--front-max") so.front_max_depth_m = std::atof(argv[i + 1]);
     else if (a == "--front-min") so.front_min_depth_m = std::atof(argv[i + 1]);
+    else if (a == "--wall-dilation") so.wall_dilation_cells = std::atoi(argv[i + 1]);
     else {
       std::fprintf(stderr, "segments_bench: unknown argument %s\n", a.c_str());
       return 2;
@@ -193,6 +194,7 @@ int main(int argc, char** argv) {
   if (!compare.empty()) return Compare(compare, level);
   if (!train.empty()) {
     SegmentTrainingOptions o;
+    o.segments = so;
     if (!ParseSeedList(train, "--train", &o.train_seeds).ok() || !ParseSeedList(val.empty() ? "100-109" : val, "--val", &o.val_seeds).ok()) return 2;
     if (dump.empty()) {
       SegmentTrainingSummary s;

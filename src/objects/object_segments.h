@@ -99,6 +99,9 @@ struct SegmentationResult {
   // What the features are measured against: per (x, y) column (x fastest), the distance to the nearest wall
   // column in metres; the floor height and the ceiling (or the scan's top).
   std::vector<float> wall_distance;
+  // Per (x, y) column (x fastest): 1 where the column is wall only because the wall columns were grown by
+  // wall_dilation_cells (the wall's margin: a noisy wall's surface, or the back of what stands against it).
+  std::vector<uint8_t> wall_margin;
   double floor_z = 0, top_z = 0;
 };
 

@@ -250,6 +250,8 @@ Result<PipelineResult> RunPipeline(const std::string& input, const PipelineOptio
       ApplyOtherLabels(map, *r.evidence, r.models->crf, *r.models->other, kOtherMinVoxels, &*r.labels);
     if (config.semantic.item_labels && r.models->items) ApplyItemLabels(map, *r.evidence, *r.models->items, kOtherMinVoxels, &*r.labels);
     if (config.semantic.wall_openings) ApplyWallOpenings(map, WallOpeningOptions{}, &*r.labels);
+    if (config.semantic.wall_margin && r.evidence->segmentation)
+      ApplyWallMargin(map, *r.evidence->segmentation, config.semantic.wall_margin_min_neighbours, &*r.labels);
     clock.AddTo(&r.seconds, "voxel_crf");
     progress.End();
   }

@@ -99,6 +99,7 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
     j["item_labels"] = models.items ? nlohmann::ordered_json{{"items", labels.item_groups}, {"voxels", labels.item_voxels}}
                                     : nlohmann::ordered_json("no model");
   if (options.floor_surface) j["floor_surface"] = {{"relabelled_voxels", labels.floor_surface_voxels}};
+  if (options.wall_margin) j["wall_margin"] = {{"relabelled_voxels", labels.wall_margin_voxels}};
   j["occupied_voxels"] = labels.map.occupied.size();
   j["completed_voxels"] = labels.map.completed_count();
   nlohmann::ordered_json hist = nlohmann::ordered_json::object();

@@ -74,6 +74,11 @@ struct SemanticStageOptions {
   // floor) take the label of what stands above or beside them, after the Voxel-CRF (pipeline/semantic_solve.h).
   bool floor_surface = true;
   double floor_surface_margin_m = 0.03;
+  // The walls' margin: wall voxels in the columns the object segmentation added to the walls (a cell around
+  // every wall) take the label of at least wall_margin_min_neighbours of their neighbours that are neither wall,
+  // floor nor ceiling, after the doors and windows (pipeline/semantic_solve.h).
+  bool wall_margin = true;
+  int wall_margin_min_neighbours = 2;
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
@@ -120,6 +125,12 @@ struct SemanticStageOptions {
                          "the Voxel-CRF's label stays"),
             OptionNumber(&O::floor_surface_margin_m, "floor_surface_margin_m", 0, 0.5, "metres",
                          "how far above the floor a voxel's bottom must lie for floor_surface (the floor's scan noise)"),
+            OptionSwitch(&O::wall_margin, "wall_margin",
+                         "after the doors and windows, wall voxels in the cell the object segmentation adds around every "
+                         "wall (the back of a sofa, a toilet or a door frame standing against it) take the label most of "
+                         "their neighbours that are not wall, floor or ceiling carry; off: the Voxel-CRF's label stays"),
+            OptionNumber(&O::wall_margin_min_neighbours, "wall_margin_min_neighbours", 1, 26, "voxels",
+                         "how many of a margin voxel's 26 neighbours must carry that label for wall_margin"),
             OptionNumber(&O::classify_width, "classify_width", 16, 4096, "pixels",
                          "classification view width (the shipped classifiers are trained at 320)"),
             OptionNumber(&O::classify_height, "classify_height", 16, 4096, "pixels",

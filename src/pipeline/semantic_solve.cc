@@ -132,6 +132,35 @@ void ApplyFloorSurface(const VoxelMap& map, double margin_m, SemanticLabels* lab
                                 << margin_m << " m or more above the floor relabelled");
 }
 
+void ApplyWallMargin(const VoxelMap& map, const SegmentationResult& segmentation, int min_neighbours, SemanticLabels* labels) {
+  const VoxelGrid& grid = map.grid;
+  const auto& d = grid.dims();
+  labels->wall_margin_voxels = 0;
+  if (segmentation.wall_margin.size() != size_t(d[0]) * size_t(d[1])) return;
+  auto usable = [](int label) { return label != 0 && label != nyu40::kWall && label != nyu40::kFloor && label != nyu40::kCeiling; };
+  std::vector<std::pair<uint32_t, uint16_t>> changes;  // Decided on the labels before this step.
+  for (const SemanticVoxelRecord& v : labels->map.occupied) {
+    if (v.label != nyu40::kWall) continue;
+    const auto c = grid.Cell(v.voxel);
+    if (!segmentation.wall_margin[size_t(c[1]) * size_t(d[0]) + size_t(c[0])]) continue;
+    std::vector<int> around;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          if ((dx | dy | dz) == 0 || !grid.Contains(c[0] + dx, c[1] + dy, c[2] + dz)) continue;
+          const SemanticVoxelRecord* r = labels->map.Find(uint32_t(grid.Index(c[0] + dx, c[1] + dy, c[2] + dz)));
+          if (r && usable(r->label)) around.push_back(r->label);
+        }
+    if (int(around.size()) < min_neighbours) continue;
+    std::vector<int> votes = around;
+    const int label = Majority(&votes);
+    if (std::count(around.begin(), around.end(), label) >= min_neighbours) changes.emplace_back(v.voxel, uint16_t(label));
+  }
+  for (const auto& [voxel, label] : changes) labels->map.Find(voxel)->label = label;
+  labels->wall_margin_voxels = changes.size();
+  SEMVOX_INFO("wall margin: " << changes.size() << " wall voxels beside objects relabelled");
+}
+
 void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, SemanticLabels* labels) {
   const auto t0 = std::chrono::steady_clock::now();
   const VoxelGrid& grid = map.grid;

@@ -14,6 +14,8 @@
 
 namespace semvox {
 
+struct SegmentationResult;
+
 struct SemanticLabels {
   VoxelCrfResult crf;   // Labels and visibility per node, planes, cliques, iterations.
   SemanticMap map;      // The occupied voxels with label, confidence, colour (and room, once assigned).
@@ -29,6 +31,7 @@ struct SemanticLabels {
   size_t item_voxels = 0;             // and the voxels it relabelled.
   double seconds_items = 0;
   size_t floor_surface_voxels = 0;    // ApplyFloorSurface: floor voxels above the floor's surface relabelled.
+  size_t wall_margin_voxels = 0;      // ApplyWallMargin: wall voxels of the walls' margin relabelled.
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
@@ -55,6 +58,14 @@ void ApplyItemLabels(const VoxelMap& map, const SemanticEvidence& evidence, cons
 // neither floor nor ceiling, else the most frequent such label among its 26 neighbours, else stays floor.
 // Voxels are visited from the top down, so a relabelled voxel passes its label on to the one below it.
 void ApplyFloorSurface(const VoxelMap& map, double margin_m, SemanticLabels* labels);
+
+// The wall's margin: the object segmentation grows the wall columns by a cell (SegmentOptions::
+// wall_dilation_cells) so that a noisy wall's surface stays wall, and with it takes the back of whatever stands
+// against the wall, a sofa's, a toilet's, a door's frame. A voxel labelled wall in such a margin column takes the
+// most frequent label among its 26 neighbours that is neither wall, floor nor ceiling when at least
+// `min_neighbours` of them carry it (the smallest id on a tie), read from the labels before this step; a
+// bare wall's margin has no such neighbours and stays wall.
+void ApplyWallMargin(const VoxelMap& map, const SegmentationResult& segmentation, int min_neighbours, SemanticLabels* labels);
 
 // Doors and windows of the map's walls (objects/wall_openings.h) relabel the labelled voxels of their pane or
 // closed leaf that came out wall, door or window, and every voxel of an open leaf but floor and ceiling.

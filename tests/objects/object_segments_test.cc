@@ -60,6 +60,13 @@ TEST(ObjectSegments, WallsAndFloorAreStructureAndFurnitureSegmentsHaveTheirShape
   EXPECT_EQ(r.structure[room.grid.Index(9, 50, 30)], 3);    // west wall
   EXPECT_EQ(r.structure[room.grid.Index(50, 110, 30)], 3);  // north wall
   EXPECT_EQ(r.structure[room.grid.Index(50, 50, 0)], 1);    // floor
+  // The wall columns are grown by a cell (wall_dilation_cells): the room's first column beside the west wall is
+  // the walls' margin, the wall's own column and the room's middle are not.
+  const int columns_x = room.grid.dims()[0];
+  ASSERT_EQ(r.wall_margin.size(), size_t(columns_x) * size_t(room.grid.dims()[1]));
+  EXPECT_EQ(r.wall_margin[50 * size_t(columns_x) + 10], 1);
+  EXPECT_EQ(r.wall_margin[50 * size_t(columns_x) + 9], 0);
+  EXPECT_EQ(r.wall_margin[50 * size_t(columns_x) + 50], 0);
   ASSERT_EQ(r.segments.size(), 3u);
   const ObjectSegment* bed = SegmentAt(r, room.grid, 40, 40, 5);
   const ObjectSegment* table = SegmentAt(r, room.grid, 100, 40, 14);

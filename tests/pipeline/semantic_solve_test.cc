@@ -1,11 +1,13 @@
 // pipeline/semantic_solve.h: ApplyFloorSurface, the floor as a surface: floor voxels wholly above it take the
 // label of what stands on them or beside them; voxels at the surface, and floor voxels with nothing else
-// around them, stay floor.
+// around them, stay floor. ApplyWallMargin: wall voxels in the cell the segmentation adds around the walls take
+// the label of the object beside them; a bare wall's margin and the wall itself stay wall.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
 #include "core/labels.h"
+#include "objects/object_segments.h"
 #include "pipeline/semantic_solve.h"
 
 namespace semvox {
@@ -77,6 +79,66 @@ TEST(FloorSurface, AMarginAsDeepAsTheScanNoiseKeepsTheFloor) {
   EXPECT_EQ(s.At(3, 3, 3), nyu40::kFloor);
   EXPECT_EQ(s.At(6, 6, 3), nyu40::kFloor);
   EXPECT_EQ(s.labels.floor_surface_voxels, 1u);
+}
+
+// A wall along y at x = 0 (its columns) whose margin is the column row x = 1, as the segmentation grows it; a
+// sofa stands against it at x = 2..3, y = 3..5, z = 2..5, and the margin cells beside it came out wall.
+struct WallScene : FloorScene {
+  SegmentationResult seg;
+};
+
+WallScene MakeWallScene() {
+  WallScene s;
+  s.map.grid = VoxelGrid(0.05, {32763, 32763, 32766}, {10, 10, 10});
+  s.seg.wall_margin.assign(100, 0);
+  for (int y = 0; y < 10; ++y) {
+    s.seg.wall_margin[size_t(y) * 10 + 1] = 1;
+    for (int z = 2; z < 8; ++z) s.Add(0, y, z, nyu40::kWall), s.Add(1, y, z, nyu40::kWall);
+  }
+  for (int y = 3; y <= 5; ++y)
+    for (int z = 2; z <= 5; ++z)
+      for (int x = 2; x <= 3; ++x) s.Add(x, y, z, nyu40::kSofa);
+  s.Add(2, 8, 7, nyu40::kPicture);  // One neighbour of margin voxels (1, 7..9, 6..7).
+  s.Add(2, 9, 2, nyu40::kFloor);    // Floor and ceiling never give their label.
+  s.Add(2, 9, 3, nyu40::kCeiling);
+  s.Sort();
+  return s;
+}
+
+TEST(WallMargin, AMarginVoxelBesideAnObjectTakesItsLabel) {
+  WallScene s = MakeWallScene();
+  ApplyWallMargin(s.map, s.seg, 2, &s.labels);
+  for (int y = 2; y <= 6; ++y)
+    for (int z = 2; z <= 6; ++z) {
+      const bool two = (y >= 3 && y <= 5) || z <= 5;  // Sofa neighbours: (rows y-1..y+1 in 3..5) x (layers z-1..z+1 in 2..5).
+      EXPECT_EQ(s.At(1, y, z), two ? nyu40::kSofa : nyu40::kWall) << "margin voxel (1, " << y << ", " << z << ")";
+    }
+  EXPECT_EQ(s.At(1, 2, 6), nyu40::kWall) << "one sofa neighbour only";
+  EXPECT_EQ(s.At(1, 7, 3), nyu40::kWall) << "its sofa-labelled neighbours became sofa in this step: labels are read from before it";
+  EXPECT_EQ(s.At(1, 8, 7), nyu40::kWall) << "one picture neighbour only";
+  EXPECT_EQ(s.At(1, 9, 2), nyu40::kWall) << "floor and ceiling neighbours give nothing";
+  for (int y = 0; y < 10; ++y)
+    for (int z = 2; z < 8; ++z) EXPECT_EQ(s.At(0, y, z), nyu40::kWall) << "the wall's own columns stay wall";
+  EXPECT_EQ(s.labels.wall_margin_voxels, 23u);
+}
+
+TEST(WallMargin, TheNeighboursAskedForDecide) {
+  WallScene s = MakeWallScene();
+  ApplyWallMargin(s.map, s.seg, 1, &s.labels);
+  EXPECT_EQ(s.At(1, 8, 7), nyu40::kPicture);
+  EXPECT_EQ(s.At(1, 2, 6), nyu40::kSofa);
+  WallScene strict = MakeWallScene();
+  ApplyWallMargin(strict.map, strict.seg, 9, &strict.labels);
+  EXPECT_EQ(strict.At(1, 4, 3), nyu40::kSofa) << "nine sofa neighbours (3 x 3 at x = 2)";
+  EXPECT_EQ(strict.At(1, 3, 3), nyu40::kWall) << "six";
+}
+
+TEST(WallMargin, WithoutTheSegmentationNothingChanges) {
+  WallScene s = MakeWallScene();
+  s.seg.wall_margin.clear();
+  ApplyWallMargin(s.map, s.seg, 2, &s.labels);
+  EXPECT_EQ(s.labels.wall_margin_voxels, 0u);
+  EXPECT_EQ(s.At(1, 4, 3), nyu40::kWall);
 }
 
 }  // namespace
