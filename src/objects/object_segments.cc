@@ -394,6 +394,7 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
         for (int i : group) wall[size_t(i)] = 0;
     }
   }
+  out.wall_margin.assign(wall.size(), 0);
   if (options.wall_dilation_cells > 0) {
     std::vector<uint8_t> grown = wall;
     const int r = options.wall_dilation_cells;
@@ -406,11 +407,8 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
             if (xx >= 0 && yy >= 0 && xx < d[0] && yy < d[1]) grown[size_t(yy) * d[0] + xx] = 1;
           }
       }
-    out.wall_margin.assign(wall.size(), 0);
     for (size_t i = 0; i < wall.size(); ++i) out.wall_margin[i] = grown[i] && !wall[i];
     wall.swap(grown);
-  } else {
-    out.wall_margin.assign(wall.size(), 0);
   }
   out.wall_distance = WallDistance(wall, d[0], d[1], res);
   out.floor_z = floor_z;

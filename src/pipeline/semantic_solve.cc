@@ -96,26 +96,37 @@ void ApplyItemLabels(const VoxelMap& map, const SemanticEvidence& evidence, cons
                               << labels->seconds_items << " s");
 }
 
+namespace {
+
+// The labels of the labelled 26 neighbours of cell c that `usable` accepts (ApplyFloorSurface, ApplyWallMargin).
+template <class Usable>
+std::vector<int> NeighbourLabels(const VoxelGrid& grid, const SemanticMap& map, const std::array<int, 3>& c, const Usable& usable) {
+  std::vector<int> around;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        if ((dx | dy | dz) == 0 || !grid.Contains(c[0] + dx, c[1] + dy, c[2] + dz)) continue;
+        const SemanticVoxelRecord* r = map.Find(uint32_t(grid.Index(c[0] + dx, c[1] + dy, c[2] + dz)));
+        if (r && usable(int(r->label))) around.push_back(r->label);
+      }
+  return around;
+}
+
+}  // namespace
+
 void ApplyFloorSurface(const VoxelMap& map, double margin_m, SemanticLabels* labels) {
   const VoxelGrid& grid = map.grid;
   const double res = grid.resolution();
-  auto usable = [](const SemanticVoxelRecord* r) {
-    return r && r->label != 0 && r->label != nyu40::kFloor && r->label != nyu40::kCeiling;
-  };
-  auto record = [&](int x, int y, int z) -> const SemanticVoxelRecord* {
-    return grid.Contains(x, y, z) ? labels->map.Find(uint32_t(grid.Index(x, y, z))) : nullptr;
-  };
+  auto usable = [](int label) { return label != 0 && label != nyu40::kFloor && label != nyu40::kCeiling; };
   // The label of what stands on voxel c: the first usable of the two voxels above it, else the most frequent
   // usable label of its 26 neighbours (the smallest id on a tie), else 0.
   auto standing_label = [&](const std::array<int, 3>& c) {
-    for (int dz = 1; dz <= 2; ++dz)
-      if (const SemanticVoxelRecord* r = record(c[0], c[1], c[2] + dz); usable(r)) return int(r->label);
-    std::vector<int> around;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx)
-          if (const SemanticVoxelRecord* r = record(c[0] + dx, c[1] + dy, c[2] + dz); (dx | dy | dz) != 0 && usable(r))
-            around.push_back(r->label);
+    for (int dz = 1; dz <= 2; ++dz) {
+      if (!grid.Contains(c[0], c[1], c[2] + dz)) continue;
+      const SemanticVoxelRecord* r = labels->map.Find(uint32_t(grid.Index(c[0], c[1], c[2] + dz)));
+      if (r && usable(int(r->label))) return int(r->label);
+    }
+    std::vector<int> around = NeighbourLabels(grid, labels->map, c, usable);
     return around.empty() ? 0 : Majority(&around);
   };
   std::vector<uint32_t> lifted;  // Floor voxels wholly above the floor's surface, visited top down.
@@ -143,14 +154,7 @@ void ApplyWallMargin(const VoxelMap& map, const SegmentationResult& segmentation
     if (v.label != nyu40::kWall) continue;
     const auto c = grid.Cell(v.voxel);
     if (!segmentation.wall_margin[size_t(c[1]) * size_t(d[0]) + size_t(c[0])]) continue;
-    std::vector<int> around;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          if ((dx | dy | dz) == 0 || !grid.Contains(c[0] + dx, c[1] + dy, c[2] + dz)) continue;
-          const SemanticVoxelRecord* r = labels->map.Find(uint32_t(grid.Index(c[0] + dx, c[1] + dy, c[2] + dz)));
-          if (r && usable(r->label)) around.push_back(r->label);
-        }
+    const std::vector<int> around = NeighbourLabels(grid, labels->map, c, usable);
     if (int(around.size()) < min_neighbours) continue;
     std::vector<int> votes = around;
     const int label = Majority(&votes);

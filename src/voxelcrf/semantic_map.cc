@@ -1,6 +1,7 @@
 #include "voxelcrf/semantic_map.h"
 
 #include <algorithm>
+#include <utility>
 #include <deque>
 #include <map>
 
@@ -82,10 +83,14 @@ VoxelGrid SemanticMap::RefinedGrid(const VoxelGrid& grid, const VoxelCrfNodes& n
   return out;
 }
 
-SemanticVoxelRecord* SemanticMap::Find(uint32_t voxel) {
+const SemanticVoxelRecord* SemanticMap::Find(uint32_t voxel) const {
   const auto it = std::lower_bound(occupied.begin(), occupied.end(), voxel,
                                    [](const SemanticVoxelRecord& r, uint32_t v) { return r.voxel < v; });
   return it == occupied.end() || it->voxel != voxel ? nullptr : &*it;
+}
+
+SemanticVoxelRecord* SemanticMap::Find(uint32_t voxel) {
+  return const_cast<SemanticVoxelRecord*>(std::as_const(*this).Find(voxel));
 }
 
 std::vector<std::pair<int, size_t>> SemanticMap::LabelCounts() const {

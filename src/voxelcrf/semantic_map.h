@@ -38,6 +38,7 @@ struct SemanticMap {
   VoxelGrid RefinedGrid(const VoxelGrid& grid, const VoxelCrfNodes& nodes) const;
   // The record of grid voxel `voxel`, or null when it is not occupied (a binary search).
   SemanticVoxelRecord* Find(uint32_t voxel);
+  const SemanticVoxelRecord* Find(uint32_t voxel) const;
   // NYU40 id -> number of occupied voxels.
   std::vector<std::pair<int, size_t>> LabelCounts() const;
   size_t completed_count() const;
