@@ -1,5 +1,6 @@
 #include "objects/segment_classifier.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 
@@ -84,6 +85,18 @@ Result<std::optional<SegmentClassifier>> SegmentClassifier::LoadFromDirectory(co
     return std::optional<SegmentClassifier>(std::move(clf).value());
   }
   return std::optional<SegmentClassifier>();
+}
+
+bool LowCounterToTable(double top_surface_m, int counter, int table, double min_top_m, std::vector<double>* p) {
+  const int k = int(p->size());
+  if (min_top_m <= 0 || !(top_surface_m < min_top_m) || counter < 0 || table < 0 || counter >= k || table >= k || counter == table)
+    return false;
+  double& pc = (*p)[size_t(counter)];
+  const double keep = std::min(pc, *std::min_element(p->begin(), p->end()));
+  if (pc <= keep) return false;
+  (*p)[size_t(table)] += pc - keep;
+  pc = keep;
+  return true;
 }
 
 }  // namespace semvox

@@ -11,6 +11,7 @@
 #include <type_traits>
 
 #include "core/file_util.h"
+#include "core/labels.h"
 #include "core/log.h"
 #include "objects/object_segments.h"
 #include "objects/other_labels.h"
@@ -319,6 +320,12 @@ SemanticEvidence SemanticEvidenceBuilder::Finish() && {
   tbb::parallel_for(size_t(0), seg.segments.size(), [&](size_t i) {
     p[i] = s.models->segments->Probabilities({seg.segments[i].features.data(), seg.segments[i].features.size()}, &unfamiliarity[i]);
   });
+  // A counter is a work surface at counter height: lower segments' counter probability goes to table.
+  const int counter = s.models->level.class_of_nyu40[size_t(nyu40::kCounter)];
+  const int table = s.models->level.class_of_nyu40[size_t(nyu40::kTable)];
+  for (size_t i = 0; i < seg.segments.size(); ++i)
+    if (LowCounterToTable(seg.segments[i].features[kSegTopSurface], counter, table, s.options.counter_min_top_m, &p[i]))
+      ++s.out.low_counter_segments, s.out.low_counter_voxels += int64_t(seg.segments[i].voxels.size());
   s.out.familiar_distance = s.models->segments->familiar_distance();
   const bool knows_familiarity = std::isfinite(s.out.familiar_distance);
   if (knows_familiarity) s.out.unfamiliar_segment_voxels = 0, s.out.unfamiliar_segments = 0;

@@ -71,6 +71,10 @@ struct SemanticEvidence {
   // Unfamiliarity above 1; the k-NN only, else -1), and that many segments.
   int64_t segment_voxels = 0, unfamiliar_segment_voxels = -1;
   int unfamiliar_segments = -1;
+  // Segments whose counter probability went to table because their top surface lies below counter height
+  // (SemanticStageOptions::counter_min_top_m, LowCounterToTable), and their voxels.
+  int low_counter_segments = 0;
+  int64_t low_counter_voxels = 0;
   double familiar_distance = 0;                        // SegmentClassifier::familiar_distance (NaN: forest).
   // Pixels of the views the built-in per-view classifier labelled, and those of superpixels unlike every
   // training superpixel (ViewClassification::unfamiliarity above 1); both 0 with an ONNX object model.

@@ -79,6 +79,10 @@ struct SemanticStageOptions {
   // floor nor ceiling, after the doors and windows (pipeline/semantic_solve.h).
   bool wall_margin = true;
   int wall_margin_min_neighbours = 2;
+  // A counter is a work surface at counter height: an object segment whose top surface lies lower than this
+  // (metres above the floor) is no counter, and the segment classifier's counter probability goes to table
+  // before the Voxel-CRF (objects/segment_classifier.h, LowCounterToTable). 0: off.
+  double counter_min_top_m = 0.75;
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
@@ -131,6 +135,10 @@ struct SemanticStageOptions {
                          "their neighbours that are not wall, floor or ceiling carry; off: the Voxel-CRF's label stays"),
             OptionNumber(&O::wall_margin_min_neighbours, "wall_margin_min_neighbours", 1, 26, "voxels",
                          "how many of a margin voxel's 26 neighbours must carry that label for wall_margin"),
+            OptionNumber(&O::counter_min_top_m, "counter_min_top_m", 0, 3, "metres",
+                         "an object segment whose top surface lies lower than this above the floor is no counter: the "
+                         "segment classifier's counter probability goes to table before the Voxel-CRF (kitchen counters "
+                         "stand 0.85-0.95 m, bathroom vanities from about 0.76 m); 0: off"),
             OptionNumber(&O::classify_width, "classify_width", 16, 4096, "pixels",
                          "classification view width (the shipped classifiers are trained at 320)"),
             OptionNumber(&O::classify_height, "classify_height", 16, 4096, "pixels",

@@ -158,7 +158,7 @@ struct RoomTypeCrfOptions {
   int sample_sweeps = 100;
   uint64_t seed = 1;                    // Gibbs sampling order and draws.
   double min_split_area_m2 = 4.0;
-  double min_split_fraction = 0.2;    // An open-plan kitchen corner is a fifth to a quarter of the room (2026-12-06: was 0.25).
+  double min_split_fraction = 0.1;    // A studio's kitchenette is an eighth of its room (0.2 until 2026-12-06, 0.25 before).
   double min_split_probability = 0.5;
   // Room shapes (room_shape.h): every node's unary gains shape_weight x its room's log-likelihood ratios
   // under the room-shape model (phi_shape, next to the scene and object terms). 3 since 2026-12-04 (was 0.5),

@@ -30,16 +30,18 @@ namespace {
 constexpr double kMinFloorRecall = 0.95;    // Floor band labelled floor; measured 0.991 (2026-12-06), 0.978 (0.985) before.
 constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.354 with the walls' margin
                                             // (2026-12-06), 0.375 before, 0.431 (0.546).
-constexpr double kMinMeanBoxRecall = 0.20;  // Mean over boxes holding voxels; measured 0.300 with the walls' margin
-                                            // (semantic.wall_margin, 2026-12-06), 0.287 (the segment
+constexpr double kMinMeanBoxRecall = 0.20;  // Mean over boxes holding voxels; measured 0.338 with counters at counter
+                                            // height (semantic.counter_min_top_m, 2026-12-06), 0.300 with the walls'
+                                            // margin (semantic.wall_margin), 0.287 (the segment
                                             // model retrained on varied toilets), 0.258 (on sectional sofas), 0.256 (the floor as a
                                             // surface), 0.249 (fronts seen over
                                             // the top, curtains by their room), 0.233 before, 0.222 with the doors and
                                             // windows found in the walls (2026-12-05; 0.199 before the window pane
                                             // cut from unrecorded glass and the deeper pane voxels), 0.134 without,
                                             // 0.106 before.
-constexpr int kMinRooms = 3;                // Rooms in rooms.geojson; measured 3 (2026-12-05): living room 28.6 m²,
-                                            // kitchen 9.6 m², the bathroom 4.0 m² (typed kitchen until 2026-12-06,
+constexpr int kMinRooms = 3;                // Rooms in rooms.geojson; measured 3: living room 33.1 m², kitchen 5.2 m²,
+                                            // bathroom 4.0 m² (2026-12-06, counters at counter height); living room
+                                            // 28.6 m², kitchen 9.6 m², the bathroom 4.0 m² (2026-12-05) (typed kitchen until 2026-12-06,
                                             // bathroom since thin parts give no neighbour rise); 2 before.
 constexpr double kMinUnfamiliarShare = 0.3;  // Object segment voxels unlike every training segment; measured 0.50.
 constexpr double kMinUnfamiliarViewShare = 0.35;  // Classified pixels unlike every training view; measured 0.47.
@@ -52,7 +54,9 @@ const std::map<std::string, double> kMinClassRecall = {
     {"counter", 0.15},      // measured 0.226 with the segment model retrained on varied toilets (2026-12-06; 0.340 with the
                             // same code trained on seeds 110-209), 0.395 with the one before, 0.432 (0.216)
     {"curtain", 0.10},      // measured 0.179 since shower curtains outside bathrooms are curtains (2026-12-06), 0.000 before
-    {"desk", 0.0},          // measured 0.000 (table voxels count)
+    {"desk", 0.0},          // measured 0.364 since segments below counter height are no counters (2026-12-06; 0.026 with
+                            // the segment model of seeds 110-209, which calls the desk cabinet and sofa), 0.002 before
+                            // (table voxels count)
     {"door", 0.50},         // measured 0.634 with the walls' margin, 0.622 with the doors found in the walls
                             // (semantic.wall_openings), 0.163 without
     {"garbagebin", 0.0},    // measured 0.173 with the segment model retrained on varied toilets (2026-12-06; 0 with the same
@@ -65,7 +69,8 @@ const std::map<std::string, double> kMinClassRecall = {
     {"sink", 0.0},          // measured 0.000
     {"sofa", 0.10},         // measured 0.235 with the segment model retrained on varied toilets (2026-12-06), 0.229 on
                             // sectional sofas (0.769 and 0.776 with the same code trained on seeds 110-209), 0.171 (0.297)
-    {"table", 0.05},        // measured 0.090 (0.055; desk voxels count)
+    {"table", 0.05},        // measured 0.165 since segments below counter height are no counters (2026-12-06: the low
+                            // table by the curtain), 0.090 (0.055; desk voxels count)
     {"toilet", 0.40},       // measured 0.664 with the walls' margin (2026-12-06), 0.551 with the segment model
                             // retrained on varied toilets (2026-12-06; 0.569 with the
                             // same code trained on seeds 110-209), 0.082 since thin parts give no neighbour rise
@@ -136,6 +141,9 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   std::ifstream summary_in(out + "/summary.json");
   const nlohmann::json summary = nlohmann::json::parse(summary_in);
   EXPECT_EQ(summary["semantic"]["model"].get<std::string>(), "models/voxel_crf_cloud.txt");
+  // Segments below counter height are no counters (semantic.counter_min_top_m): the desk and the low table are
+  // among them (measured 7 segments, 15,518 voxels).
+  EXPECT_GE(summary["semantic"]["low_counters"]["segments"].get<int>(), 2);
   // Most of the studio's object segments are shaped unlike every training segment (measured 0.52; generated
   // scans 0.02-0.05), and the run says so in a warning.
   const double unfamiliar = summary["semantic"]["object_segment_shapes"]["unfamiliar_share"].get<double>();
@@ -199,8 +207,9 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   EXPECT_LT(toilet[0].second, kMaxBathroomArea) << "the toilet's room";
   std::printf("toilet in room %d (%.1f m2), bed in room %d (%.1f m2)\n", toilet[0].first, toilet[0].second, bed[0].first, bed[0].second);
   // The studio holds a bathroom and a kitchen (issue 16): the toilet's room is typed bathroom, the
-  // refrigerator's kitchen (measured 0.97 and 0.89; the kitchen corner is 9.0 of the 38.3 m² open room, split off
-  // since room_types.min_split_fraction is 0.2).
+  // refrigerator's kitchen (measured 0.97 and 0.89; the kitchen corner is 5.2 of the 38.3 m² open room since
+  // segments below counter height are no counters (9.5 m² before, with two bins read as counters), split off since
+  // room_types.min_split_fraction is 0.1).
   auto type_of = [&](int id) {
     for (const auto& f : rooms["features"])
       if (f["properties"]["id"].get<int>() == id) return f["properties"]["type"].get<std::string>();

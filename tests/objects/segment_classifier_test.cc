@@ -90,5 +90,34 @@ TEST(SegmentClassifier, ADirectoryHoldsOnlyTheModelLastSavedAndLoadsIt) {
   EXPECT_NE(bad.status().message().find("object_segments.forest"), std::string::npos);
 }
 
+// A counter is a work surface at counter height: below the threshold the counter's probability goes to table,
+// down to the classifier's floor (the smallest probability), and the sum stays one; at or above it, with the
+// check off, or with a class out of range nothing moves.
+TEST(SegmentClassifier, LowCounterGivesItsProbabilityToTable) {
+  const int counter = 1, table = 2;
+  const std::vector<double> p0 = {0.001, 0.7, 0.1, 0.199};
+  std::vector<double> p = p0;
+  EXPECT_TRUE(LowCounterToTable(0.47, counter, table, 0.75, &p));  // A coffee table's top.
+  EXPECT_DOUBLE_EQ(p[counter], 0.001);
+  EXPECT_DOUBLE_EQ(p[table], 0.1 + 0.699);
+  EXPECT_DOUBLE_EQ(p[0], 0.001);
+  EXPECT_DOUBLE_EQ(p[3], 0.199);
+  EXPECT_NEAR(p[0] + p[1] + p[2] + p[3], 1.0, 1e-12);
+  for (double top : {0.75, 0.9, 1.12}) {  // At counter height and above (a bar counter): a counter may stay.
+    p = p0;
+    EXPECT_FALSE(LowCounterToTable(top, counter, table, 0.75, &p)) << top;
+    EXPECT_EQ(p, p0);
+  }
+  p = p0;
+  EXPECT_FALSE(LowCounterToTable(0.47, counter, table, 0.0, &p));  // Off.
+  EXPECT_FALSE(LowCounterToTable(std::nan(""), counter, table, 0.75, &p));
+  EXPECT_FALSE(LowCounterToTable(0.47, -1, table, 0.75, &p));
+  EXPECT_FALSE(LowCounterToTable(0.47, counter, 4, 0.75, &p));
+  EXPECT_FALSE(LowCounterToTable(0.47, counter, counter, 0.75, &p));
+  EXPECT_EQ(p, p0);
+  p = {0.001, 0.001, 0.5, 0.498};  // Nothing above the floor to move.
+  EXPECT_FALSE(LowCounterToTable(0.47, counter, table, 0.75, &p));
+}
+
 }  // namespace
 }  // namespace semvox

@@ -352,6 +352,28 @@ TEST(RoomTypeCrf, SplitsARoomWhoseHalvesDisagree) {
   EXPECT_GT(whole.assignments[0].second_probability, 0.3);
 }
 
+// A studio's kitchenette is an eighth of its open room (the ScanNet studio's 5.2 of 38.4 m²): it is split off by
+// default (min_split_fraction 0.1 since 2026-12-06), not when a fifth of the room is asked for.
+TEST(RoomTypeCrf, SplitsOffAKitchenetteOfAnEighthOfTheRoom) {
+  FloorPlan p = OpenPlan(160, 100);  // One 8 m x 5 m room.
+  const RoomSegmentation rooms = TwoRooms(p, 1000);
+  RoomTypeCrfOptions o;
+  Result<RoomTypeGraph> g = BuildRoomTypeGraph(p, rooms, {}, {}, RoomTypeModel::Uninformative(), o);
+  ASSERT_TRUE(g.ok());
+  std::vector<Dist> m(g->segment.size());
+  for (size_t n = 0; n < m.size(); ++n) m[n] = Peaked(g->position[n].x() < 1.0 ? 5 : 7, 0.8);  // Kitchen | living room.
+  const RoomTypeResult r = AssignRoomTypes(*g, rooms, p, m, o);
+  EXPECT_EQ(r.splits, 1);
+  ASSERT_EQ(r.assignments.size(), 2u);
+  EXPECT_EQ(r.assignments[0].type_id, 8);
+  EXPECT_EQ(r.assignments[1].type_id, 6);
+  o.min_split_fraction = 0.2;
+  const RoomTypeResult whole = AssignRoomTypes(*g, rooms, p, m, o);
+  EXPECT_EQ(whole.splits, 0);
+  ASSERT_EQ(whole.assignments.size(), 1u);
+  EXPECT_EQ(whole.assignments[0].type_id, 8);
+}
+
 TEST(RoomTypeCrf, ModelRoundTripsThroughJson) {
   RoomTypeModel m = RoomTypeModel::Uninformative();
   m.confusion[3][4] = 0.25;
