@@ -65,7 +65,7 @@ class SegmentClassifier {
 
 // A counter is a work surface at counter height (kitchen counters 0.85-0.95 m, bathroom vanities from about
 // 0.76 m; the generator's 0.87-0.93 m). The shape classifier still calls counter what is counter-like by its
-// other features and lower (on the ScanNet studio a desk at 0.72 m and a coffee table at 0.47 m, both standing
+// other features and lower (on the ScanNet studio a desk at 0.72 m and a low table at 0.47 m, both standing
 // against something that rises above them, as counters stand below wall cabinets): a segment whose top surface
 // (kSegTopSurface, metres above the floor) lies below `min_top_m` is no counter, and `p[counter]` moves to
 // `p[table]` (a flat top at table height), down to the smallest probability in `p` (the classifier's floor), so
