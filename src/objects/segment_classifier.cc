@@ -99,4 +99,44 @@ bool LowCounterToTable(double top_surface_m, int counter, int table, double min_
   return true;
 }
 
+std::vector<size_t> SofaBacksBesideSeats(const VoxelGrid& grid, const std::vector<ObjectSegment>& segments, int bed, int sofa,
+                                         double min_seat_probability, double min_rise_m, std::vector<std::vector<double>>* p) {
+  std::vector<size_t> changed;
+  const size_t n = segments.size();
+  if (p->size() != n || bed < 0 || sofa < 0 || bed == sofa) return changed;
+  auto argmax = [&](size_t i) {
+    const std::vector<double>& q = (*p)[i];
+    return q.empty() ? -1 : int(std::max_element(q.begin(), q.end()) - q.begin());
+  };
+  std::vector<int> best(n);
+  for (size_t i = 0; i < n; ++i) best[i] = argmax(i);
+  std::vector<int32_t> segment_of(grid.size(), -1);
+  for (size_t i = 0; i < n; ++i)
+    for (uint32_t v : segments[i].voxels) segment_of[v] = int32_t(i);
+  for (size_t i = 0; i < n; ++i) {
+    if (best[i] != bed || size_t(std::max(bed, sofa)) >= (*p)[i].size()) continue;
+    const float top = segments[i].features[kSegTopSurface];
+    bool beside_seat = false;
+    for (size_t k = 0; k < segments[i].voxels.size() && !beside_seat; ++k) {
+      const std::array<int, 3> c = grid.Cell(segments[i].voxels[k]);
+      for (int dz = -1; dz <= 1 && !beside_seat; ++dz)
+        for (int dy = -1; dy <= 1 && !beside_seat; ++dy)
+          for (int dx = -1; dx <= 1 && !beside_seat; ++dx) {
+            if (!grid.Contains(c[0] + dx, c[1] + dy, c[2] + dz)) continue;
+            const int32_t j = segment_of[grid.Index(c[0] + dx, c[1] + dy, c[2] + dz)];
+            if (j < 0 || size_t(j) == i || best[size_t(j)] != sofa) continue;
+            beside_seat = (*p)[size_t(j)][size_t(sofa)] >= min_seat_probability &&
+                          top > segments[size_t(j)].features[kSegTopSurface] + min_rise_m;
+          }
+    }
+    if (!beside_seat) continue;
+    std::vector<double>& q = (*p)[i];
+    const double keep = *std::min_element(q.begin(), q.end());
+    q[size_t(sofa)] += q[size_t(bed)] - keep;
+    q[size_t(bed)] = keep;
+    changed.push_back(i);
+  }
+  return changed;
+}
+
 }  // namespace semvox

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/status.h"
+#include "objects/object_segments.h"
 
 namespace semvox {
 
@@ -72,5 +73,15 @@ class SegmentClassifier {
 // that `p` keeps its sum. Returns whether anything moved (false when the segment is high enough, `counter` or
 // `table` is out of range, or `min_top_m` <= 0).
 bool LowCounterToTable(double top_surface_m, int counter, int table, double min_top_m, std::vector<double>* p);
+
+// A sofa's back and arms stand beside its seat and above it; a bed has no sofa seat beside it and below it. The
+// shape classifier reads a broad back-and-arms band (the ScanNet studio's sectional: 3.8 x 2.8 m around its seat)
+// as a bed, while the seat beside it is plainly sofa. Every segment whose most probable class (in `p`, one vector
+// per segment of `segments`) is `bed` and which touches (26 neighbours in `grid`) a segment whose most probable
+// class is `sofa` with a probability of at least `min_seat_probability`, its top surface more than `min_rise_m`
+// above that seat's, gives its bed probability to sofa, down to the smallest probability in its vector. The
+// classes are read before any change. Returns the indices of the segments changed, ascending.
+std::vector<size_t> SofaBacksBesideSeats(const VoxelGrid& grid, const std::vector<ObjectSegment>& segments, int bed, int sofa,
+                                         double min_seat_probability, double min_rise_m, std::vector<std::vector<double>>* p);
 
 }  // namespace semvox

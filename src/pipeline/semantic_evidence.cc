@@ -326,6 +326,12 @@ SemanticEvidence SemanticEvidenceBuilder::Finish() && {
   for (size_t i = 0; i < seg.segments.size(); ++i)
     if (LowCounterToTable(seg.segments[i].features[kSegTopSurface], counter, table, s.options.counter_min_top_m, &p[i]))
       ++s.out.low_counter_segments, s.out.low_counter_voxels += int64_t(seg.segments[i].voxels.size());
+  // A sofa's back and arms beside its seat, above it, are sofa, not bed.
+  constexpr double kMinSeatProbability = 0.9, kMinBackRiseM = 0.15;
+  if (s.options.sofa_backs)
+    for (size_t i : SofaBacksBesideSeats(s.map->grid, seg.segments, s.models->level.class_of_nyu40[size_t(nyu40::kBed)],
+                                         s.models->level.class_of_nyu40[size_t(nyu40::kSofa)], kMinSeatProbability, kMinBackRiseM, &p))
+      ++s.out.sofa_back_segments, s.out.sofa_back_voxels += int64_t(seg.segments[i].voxels.size());
   s.out.familiar_distance = s.models->segments->familiar_distance();
   const bool knows_familiarity = std::isfinite(s.out.familiar_distance);
   if (knows_familiarity) s.out.unfamiliar_segment_voxels = 0, s.out.unfamiliar_segments = 0;

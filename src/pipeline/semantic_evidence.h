@@ -75,6 +75,9 @@ struct SemanticEvidence {
   // (SemanticStageOptions::counter_min_top_m, LowCounterToTable), and their voxels.
   int low_counter_segments = 0;
   int64_t low_counter_voxels = 0;
+  // Segments read as a sofa's back beside its seat (SemanticStageOptions::sofa_backs), and their voxels.
+  int sofa_back_segments = 0;
+  int64_t sofa_back_voxels = 0;
   double familiar_distance = 0;                        // SegmentClassifier::familiar_distance (NaN: forest).
   // Pixels of the views the built-in per-view classifier labelled, and those of superpixels unlike every
   // training superpixel (ViewClassification::unfamiliarity above 1); both 0 with an ONNX object model.

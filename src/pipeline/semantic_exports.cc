@@ -103,6 +103,8 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
   if (options.counter_min_top_m > 0 && evidence.num_segments >= 0)
     j["low_counters"] = {{"min_top_m", options.counter_min_top_m}, {"segments", evidence.low_counter_segments},
                          {"voxels", evidence.low_counter_voxels}};
+  if (options.sofa_backs && evidence.num_segments >= 0)
+    j["sofa_backs"] = {{"segments", evidence.sofa_back_segments}, {"voxels", evidence.sofa_back_voxels}};
   j["occupied_voxels"] = labels.map.occupied.size();
   j["completed_voxels"] = labels.map.completed_count();
   nlohmann::ordered_json hist = nlohmann::ordered_json::object();

@@ -83,6 +83,10 @@ struct SemanticStageOptions {
   // (metres above the floor) is no counter, and the segment classifier's counter probability goes to table
   // before the Voxel-CRF (objects/segment_classifier.h, LowCounterToTable). 0: off.
   double counter_min_top_m = 0.75;
+  // A sofa's back beside its seat: an object segment the shape classifier calls bed that touches a segment it
+  // calls sofa (probability >= 0.9) and whose top surface lies more than 0.15 m above that seat's gives its bed
+  // probability to sofa before the Voxel-CRF (objects/segment_classifier.h, SofaBacksBesideSeats).
+  bool sofa_backs = true;
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
@@ -139,6 +143,10 @@ struct SemanticStageOptions {
                          "an object segment whose top surface lies lower than this above the floor is no counter: the "
                          "segment classifier's counter probability goes to table before the Voxel-CRF (kitchen counters "
                          "stand 0.85-0.95 m, bathroom vanities from about 0.76 m); 0: off"),
+            OptionSwitch(&O::sofa_backs, "sofa_backs",
+                         "before the Voxel-CRF, an object segment the shape classifier calls bed that touches a segment it "
+                         "calls sofa (probability 0.9 or more) and stands more than 0.15 m higher is that sofa's back and "
+                         "arms: its bed probability goes to sofa; off: the classifier's probabilities stay"),
             OptionNumber(&O::classify_width, "classify_width", 16, 4096, "pixels",
                          "classification view width (the shipped classifiers are trained at 320)"),
             OptionNumber(&O::classify_height, "classify_height", 16, 4096, "pixels",

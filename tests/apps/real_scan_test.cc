@@ -30,8 +30,9 @@ namespace {
 constexpr double kMinFloorRecall = 0.95;    // Floor band labelled floor; measured 0.991 (2026-12-06), 0.978 (0.985) before.
 constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.354 with the walls' margin
                                             // (2026-12-06), 0.375 before, 0.431 (0.546).
-constexpr double kMinMeanBoxRecall = 0.20;  // Mean over boxes holding voxels; measured 0.338 with counters at counter
-                                            // height (semantic.counter_min_top_m, 2026-12-06), 0.300 with the walls'
+constexpr double kMinMeanBoxRecall = 0.20;  // Mean over boxes holding voxels; measured 0.359 with sofa backs beside their
+                                            // seats (semantic.sofa_backs, 2026-12-06), 0.338 with counters at counter
+                                            // height (semantic.counter_min_top_m), 0.300 with the walls'
                                             // margin (semantic.wall_margin), 0.287 (the segment
                                             // model retrained on varied toilets), 0.258 (on sectional sofas), 0.256 (the floor as a
                                             // surface), 0.249 (fronts seen over
@@ -67,7 +68,8 @@ const std::map<std::string, double> kMinClassRecall = {
                             // 0.458 with the segment model retrained on fronts seen over the top (2026-12-06), 0.347
                             // with the one of earlier that day, 0.771 with the one of 2026-12-02 (0.880)
     {"sink", 0.0},          // measured 0.000
-    {"sofa", 0.10},         // measured 0.235 with the segment model retrained on varied toilets (2026-12-06), 0.229 on
+    {"sofa", 0.50},         // measured 0.777 since a sofa's back beside its seat is sofa (2026-12-06, semantic.sofa_backs;
+                            // 0.77 with the segment model of seeds 110-209, whose back was sofa already), 0.235 with the segment model retrained on varied toilets (2026-12-06), 0.229 on
                             // sectional sofas (0.769 and 0.776 with the same code trained on seeds 110-209), 0.171 (0.297)
     {"table", 0.05},        // measured 0.165 since segments below counter height are no counters (2026-12-06: the low
                             // table by the curtain), 0.090 (0.055; desk voxels count)
@@ -144,6 +146,9 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   // Segments below counter height are no counters (semantic.counter_min_top_m): the desk and the low table are
   // among them (measured 7 segments, 15,518 voxels).
   EXPECT_GE(summary["semantic"]["low_counters"]["segments"].get<int>(), 2);
+  // The sectional's back-and-arms band, called bed by its shape, stands above the sofa seat beside it
+  // (semantic.sofa_backs; measured 1 segment, 5,679 voxels).
+  EXPECT_GE(summary["semantic"]["sofa_backs"]["segments"].get<int>(), 1);
   // Most of the studio's object segments are shaped unlike every training segment (measured 0.52; generated
   // scans 0.02-0.05), and the run says so in a warning.
   const double unfamiliar = summary["semantic"]["object_segment_shapes"]["unfamiliar_share"].get<double>();

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -117,6 +118,39 @@ TEST(SegmentClassifier, LowCounterGivesItsProbabilityToTable) {
   EXPECT_EQ(p, p0);
   p = {0.001, 0.001, 0.5, 0.498};  // Nothing above the floor to move.
   EXPECT_FALSE(LowCounterToTable(0.47, counter, table, 0.75, &p));
+}
+
+// A sofa's back beside its seat: the back (called bed) touching a sure seat and standing higher becomes sofa; a bed
+// beside a sofa at its own height, a bed beside an unsure seat, or a bed apart from the seat stays bed.
+TEST(SegmentClassifier, SofaBackBesideItsSeatIsSofa) {
+  VoxelGrid grid(0.05, {32768, 32768, 32768}, {40, 20, 20});
+  auto block = [&](int x0, int x1, int z0, int z1, float top) {
+    ObjectSegment s;
+    for (int z = z0; z <= z1; ++z)
+      for (int y = 5; y <= 10; ++y)
+        for (int x = x0; x <= x1; ++x) s.voxels.push_back(uint32_t(grid.Index(x, y, z)));
+    std::sort(s.voxels.begin(), s.voxels.end());
+    s.features[kSegTopSurface] = top;
+    return s;
+  };
+  const int bed = 1, sofa = 2;
+  const std::vector<double> seat_p = {0.01, 0.01, 0.95, 0.03}, back_p = {0.01, 0.6, 0.3, 0.09};
+  // Seat at x 0-9 (top 0.45 m), back at x 10-14 (top 0.75 m, touching), a bed at x 30-39 (apart).
+  const std::vector<ObjectSegment> segs = {block(0, 9, 0, 8, 0.45f), block(10, 14, 0, 14, 0.75f), block(30, 39, 0, 10, 0.55f)};
+  std::vector<std::vector<double>> p = {seat_p, back_p, back_p};
+  EXPECT_EQ(SofaBacksBesideSeats(grid, segs, bed, sofa, 0.9, 0.15, &p), std::vector<size_t>{1});
+  EXPECT_DOUBLE_EQ(p[1][sofa], 0.3 + 0.6 - 0.01);
+  EXPECT_DOUBLE_EQ(p[1][bed], 0.01);
+  EXPECT_NEAR(p[1][0] + p[1][1] + p[1][2] + p[1][3], 1.0, 1e-12);
+  EXPECT_EQ(p[0], seat_p);
+  EXPECT_EQ(p[2], back_p);  // Apart from the seat.
+  p = {{0.01, 0.01, 0.8, 0.18}, back_p, back_p};  // An unsure seat.
+  EXPECT_TRUE(SofaBacksBesideSeats(grid, segs, bed, sofa, 0.9, 0.15, &p).empty());
+  std::vector<ObjectSegment> level = segs;
+  level[1].features[kSegTopSurface] = 0.55f;  // A bed beside a sofa, 0.1 m higher than its seat.
+  p = {seat_p, back_p, back_p};
+  EXPECT_TRUE(SofaBacksBesideSeats(grid, level, bed, sofa, 0.9, 0.15, &p).empty());
+  EXPECT_EQ(p[1], back_p);
 }
 
 }  // namespace
