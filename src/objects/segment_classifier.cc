@@ -87,16 +87,25 @@ Result<std::optional<SegmentClassifier>> SegmentClassifier::LoadFromDirectory(co
   return std::optional<SegmentClassifier>();
 }
 
+namespace {
+
+// Moves p[from] to p[to], down to the smallest probability in p (the classifier's floor), so that p keeps its
+// sum; false when p[from] is at the floor already. `from` and `to` are valid, different indices.
+bool MoveProbability(size_t from, size_t to, std::vector<double>* p) {
+  const double floor = *std::min_element(p->begin(), p->end());
+  if ((*p)[from] <= floor) return false;
+  (*p)[to] += (*p)[from] - floor;
+  (*p)[from] = floor;
+  return true;
+}
+
+}  // namespace
+
 bool LowCounterToTable(double top_surface_m, int counter, int table, double min_top_m, std::vector<double>* p) {
   const int k = int(p->size());
   if (min_top_m <= 0 || !(top_surface_m < min_top_m) || counter < 0 || table < 0 || counter >= k || table >= k || counter == table)
     return false;
-  double& pc = (*p)[size_t(counter)];
-  const double keep = std::min(pc, *std::min_element(p->begin(), p->end()));
-  if (pc <= keep) return false;
-  (*p)[size_t(table)] += pc - keep;
-  pc = keep;
-  return true;
+  return MoveProbability(size_t(counter), size_t(table), p);
 }
 
 std::vector<size_t> SofaBacksBesideSeats(const VoxelGrid& grid, const std::vector<ObjectSegment>& segments, int bed, int sofa,
@@ -110,6 +119,13 @@ std::vector<size_t> SofaBacksBesideSeats(const VoxelGrid& grid, const std::vecto
   };
   std::vector<int> best(n);
   for (size_t i = 0; i < n; ++i) best[i] = argmax(i);
+  // Most scans hold no bed-called segment or no sure seat: no voxel index is needed then.
+  bool any_bed = false, any_seat = false;
+  for (size_t i = 0; i < n; ++i) {
+    any_bed |= best[i] == bed;
+    any_seat |= best[i] == sofa && (*p)[i][size_t(sofa)] >= min_seat_probability;
+  }
+  if (!any_bed || !any_seat) return changed;
   std::vector<int32_t> segment_of(grid.size(), -1);
   for (size_t i = 0; i < n; ++i)
     for (uint32_t v : segments[i].voxels) segment_of[v] = int32_t(i);
@@ -129,12 +145,7 @@ std::vector<size_t> SofaBacksBesideSeats(const VoxelGrid& grid, const std::vecto
                           top > segments[size_t(j)].features[kSegTopSurface] + min_rise_m;
           }
     }
-    if (!beside_seat) continue;
-    std::vector<double>& q = (*p)[i];
-    const double keep = *std::min_element(q.begin(), q.end());
-    q[size_t(sofa)] += q[size_t(bed)] - keep;
-    q[size_t(bed)] = keep;
-    changed.push_back(i);
+    if (beside_seat && MoveProbability(size_t(bed), size_t(sofa), &(*p)[i])) changed.push_back(i);
   }
   return changed;
 }
