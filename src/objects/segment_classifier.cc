@@ -1,6 +1,7 @@
 #include "objects/segment_classifier.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 
@@ -106,6 +107,23 @@ bool LowCounterToTable(double top_surface_m, int counter, int table, double min_
   if (min_top_m <= 0 || !(top_surface_m < min_top_m) || counter < 0 || table < 0 || counter >= k || table >= k || counter == table)
     return false;
   return MoveProbability(size_t(counter), size_t(table), p);
+}
+
+bool HighTopsToOtherClasses(double top_surface_m, std::span<const ClassTopLimit> limits, std::vector<double>* p) {
+  if (p->empty() || !std::isfinite(top_surface_m)) return false;
+  const double floor = *std::min_element(p->begin(), p->end());
+  std::vector<char> excluded(p->size(), 0);
+  for (const ClassTopLimit& l : limits)
+    if (l.cls >= 0 && size_t(l.cls) < p->size() && top_surface_m > l.max_top_m) excluded[size_t(l.cls)] = 1;
+  // Only a segment whose most probable class it cannot be: the small probabilities of the others stay as the
+  // classifier gave them.
+  if (!excluded[size_t(std::max_element(p->begin(), p->end()) - p->begin())]) return false;
+  double moved = 0, kept = 0;
+  for (size_t k = 0; k < p->size(); ++k) (excluded[k] ? moved : kept) += (*p)[k] - floor;
+  if (!(moved > 0) || !(kept > 0)) return false;
+  for (size_t k = 0; k < p->size(); ++k)
+    (*p)[k] = excluded[k] ? floor : (*p)[k] + moved * ((*p)[k] - floor) / kept;
+  return true;
 }
 
 std::vector<size_t> SofaBacksBesideSeats(const VoxelGrid& grid, const std::vector<ObjectSegment>& segments, int bed, int sofa,

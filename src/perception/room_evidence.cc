@@ -1,6 +1,8 @@
 #include "perception/room_evidence.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "perception/superpixels.h"
 
@@ -66,6 +68,29 @@ std::vector<double> RoomTypeProbabilities(const KnnClassifier& knn, const std::v
     return p;
   }
   return knn.Probabilities(descriptor);
+}
+
+std::vector<double> RoomTypeProbabilities(const KnnClassifier& knn, const std::vector<float>& descriptor,
+                                          double object_fraction, double min_object_fraction, double familiar_distance,
+                                          double* unfamiliarity) {
+  *unfamiliarity = std::numeric_limits<double>::quiet_NaN();
+  if (object_fraction < min_object_fraction || knn.dims() != int(descriptor.size()))
+    return RoomTypeProbabilities(knn, descriptor, object_fraction, min_object_fraction);
+  double distance = 0;
+  std::vector<double> p = knn.Probabilities(descriptor, &distance);
+  if (familiar_distance > 0 && std::isfinite(distance)) *unfamiliarity = distance / familiar_distance;
+  return p;
+}
+
+double DiscountUnfamiliarRoomView(double unfamiliarity, std::vector<double>* p) {
+  if (!std::isfinite(unfamiliarity) || p->empty()) return 0;
+  const double lambda = std::clamp(unfamiliarity - 1.0, 0.0, 1.0);
+  if (lambda <= 0) return 0;
+  double sum = 0;
+  for (double v : *p) sum += v;
+  const double uniform = sum / double(p->size());
+  for (double& v : *p) v = (1 - lambda) * v + lambda * uniform;
+  return lambda;
 }
 
 std::vector<bool> RoomObjectClasses(const std::vector<std::string>& class_names) {

@@ -37,5 +37,17 @@ double ObjectPixelFraction(const RenderedView& view, const Image<int32_t>& class
 // when object_fraction < min_object_fraction.
 std::vector<double> RoomTypeProbabilities(const KnnClassifier& knn, const std::vector<float>& descriptor,
                                           double object_fraction, double min_object_fraction);
+// The same, and from the same search how unlike every training view the descriptor is: its mean distance to
+// its k nearest training views (KnnClassifier::NeighbourDistance) over `familiar_distance` (the training views'
+// own 0.99-quantile, KnnClassifier::TrainingNeighbourDistanceQuantile). NaN when the view goes to "other" for
+// too few object pixels, or `familiar_distance` <= 0.
+std::vector<double> RoomTypeProbabilities(const KnnClassifier& knn, const std::vector<float>& descriptor,
+                                          double object_fraction, double min_object_fraction, double familiar_distance,
+                                          double* unfamiliarity);
+
+// A view unlike every training view says less about its room: its distribution mixes with the uniform one by
+// lambda = clamp(unfamiliarity - 1, 0, 1), so that it counts fully up to the familiar distance and says nothing
+// from twice that distance on. `p` keeps its sum. Returns lambda (0 for a NaN unfamiliarity).
+double DiscountUnfamiliarRoomView(double unfamiliarity, std::vector<double>* p);
 
 }  // namespace semvox

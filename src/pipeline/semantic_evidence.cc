@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <type_traits>
 
@@ -41,6 +42,7 @@ Result<SemanticModels> SemanticModels::Load(const std::string& models_dir, Voxel
   Result<KnnClassifier> room = KnnClassifier::Load(models_dir + "/room_type_knn.bin");
   if (!room.ok()) return room.status();
   m.room_knn = std::make_shared<const KnnClassifier>(std::move(room).value());
+  m.room_familiar_distance = m.room_knn->TrainingNeighbourDistanceQuantile(KnnClassifier::kFamiliarQuantile);
   std::error_code ec;
   Result<std::optional<SegmentClassifier>> seg = SegmentClassifier::LoadFromDirectory(models_dir);
   if (!seg.ok()) return seg.status();
@@ -193,6 +195,8 @@ Status SemanticEvidenceBuilder::ClassifyViews(const std::vector<Eigen::Vector3d>
     std::array<double, 12> room{};
     std::function<Status()> finish_hook;  // The view hook's serial part.
     int64_t pixels = 0, unfamiliar_pixels = 0;  // SemanticEvidence::view_pixels, unfamiliar_view_pixels.
+    double room_unfamiliarity = 0;  // Of the room-type descriptor (NaN: not measured).
+    double room_weight = 1;         // 1 - DiscountUnfamiliarRoomView's mix.
     Status status = Status::Ok();
   };
   std::vector<Slot> slots(kBatch);
@@ -203,6 +207,8 @@ Status SemanticEvidenceBuilder::ClassifyViews(const std::vector<Eigen::Vector3d>
       slot.use = false;
       slot.finish_hook = nullptr;
       slot.pixels = slot.unfamiliar_pixels = 0;
+      slot.room_unfamiliarity = std::numeric_limits<double>::quiet_NaN();
+      slot.room_weight = 1;
       const Pose& pose = poses[b0 + k];
       slot.status = s.renderer->Render(camera, WorldFromCameraYawPitch(pose.p, pose.yaw, ClassifierViews::kPitchDeg), render, &slot.view);
       if (!slot.status.ok()) return;
@@ -249,7 +255,10 @@ Status SemanticEvidenceBuilder::ClassifyViews(const std::vector<Eigen::Vector3d>
         p = std::move(r).value();
       } else {
         p = RoomTypeProbabilities(*s.models->room_knn, RoomViewDescriptor(slot.view, predicted, K),
-                                  ObjectPixelFraction(slot.view, predicted, object_classes), kRoomMinObjectFraction);
+                                  ObjectPixelFraction(slot.view, predicted, object_classes), kRoomMinObjectFraction,
+                                  s.models->room_familiar_distance, &slot.room_unfamiliarity);
+        if (s.options.room_view_familiarity && std::isfinite(slot.room_unfamiliarity))
+          slot.room_weight = 1.0 - DiscountUnfamiliarRoomView(slot.room_unfamiliarity, &p);
       }
       for (size_t t = 0; t < 12 && t < p.size(); ++t) slot.room[t] = p[t];
       if (s.hook && to_hook[b0 + k]) {
@@ -273,6 +282,11 @@ Status SemanticEvidenceBuilder::ClassifyViews(const std::vector<Eigen::Vector3d>
       s.acc->AddClassifiedView(slot.view, slot.superpixels.count > 0 ? &slot.superpixels.label : nullptr, slot.probabilities);
       s.out.view_pixels += slot.pixels;
       s.out.unfamiliar_view_pixels += slot.unfamiliar_pixels;
+      if (std::isfinite(slot.room_unfamiliarity)) {
+        ++s.out.room_views_measured;
+        s.out.room_views_unfamiliar += slot.room_unfamiliarity > 1.0;
+        s.out.room_view_weight_sum += slot.room_weight;
+      }
       if (slot.finish_hook) {
         SEMVOX_RETURN_IF_ERROR(slot.finish_hook());
         ++s.out.hooked_views;
@@ -326,6 +340,26 @@ SemanticEvidence SemanticEvidenceBuilder::Finish() && {
   for (size_t i = 0; i < seg.segments.size(); ++i)
     if (LowCounterToTable(seg.segments[i].features[kSegTopSurface], counter, table, s.options.counter_min_top_m, &p[i]))
       ++s.out.low_counter_segments, s.out.low_counter_voxels += int64_t(seg.segments[i].voxels.size());
+  // What stands how high (metres above the floor): above every object of the class in the world (bar stools'
+  // seats about 0.8 m, bar tables and counters 1.05-1.1 m, standing desks 1.25 m, a bunk's upper mattress about
+  // 1.5 m) and every generated training segment's (table 1.32 m, counter 1.27 m, chair 0.97 m, bed 0.67 m).
+  if (s.options.high_tops) {
+    constexpr std::pair<int, double> kTopLimits[] = {
+        {nyu40::kChair, 1.2}, {nyu40::kSofa, 1.2},    {nyu40::kToilet, 1.2}, {nyu40::kBathtub, 1.2}, {nyu40::kNightStand, 1.2},
+        {nyu40::kTable, 1.4}, {nyu40::kDesk, 1.4},    {nyu40::kCounter, 1.4}, {nyu40::kSink, 1.4},  {nyu40::kBed, 1.6}};
+    std::vector<ClassTopLimit> limits;
+    for (const auto& [id, max_top_m] : kTopLimits) {
+      const int cls = s.models->level.class_of_nyu40[size_t(id)];
+      if (cls < 0) continue;
+      // Classes that hold several of these ids (coarser levels) keep the highest limit.
+      auto it = std::find_if(limits.begin(), limits.end(), [&](const ClassTopLimit& l) { return l.cls == cls; });
+      if (it == limits.end()) limits.push_back({cls, max_top_m});
+      else it->max_top_m = std::max(it->max_top_m, max_top_m);
+    }
+    for (size_t i = 0; i < seg.segments.size(); ++i)
+      if (HighTopsToOtherClasses(seg.segments[i].features[kSegTopSurface], limits, &p[i]))
+        ++s.out.high_top_segments, s.out.high_top_voxels += int64_t(seg.segments[i].voxels.size());
+  }
   // A sofa's back and arms beside its seat, above it, are sofa, not bed.
   constexpr double kMinSeatProbability = 0.9, kMinBackRiseM = 0.15;
   if (s.options.sofa_backs)

@@ -45,6 +45,8 @@ struct SemanticModels {
   LabelLevel level;                                    // The per-view classifier's classes (SecondLevel()).
   std::shared_ptr<const ViewClassifier> classifier;   // second.*
   std::shared_ptr<const KnnClassifier> room_knn;      // room_type_knn.bin
+  // Its training views' 0.99-quantile neighbour distance (KnnClassifier::TrainingNeighbourDistanceQuantile).
+  double room_familiar_distance = 0;
   std::shared_ptr<const SegmentClassifier> segments;   // object_segments.forest or .knn; null when absent (no segment term).
   std::shared_ptr<const OtherLabeller> other;          // other_labels.knn; null when absent ("other" keeps one id).
   std::shared_ptr<const ItemLabeller> items;           // item_labels.knn; null when absent (items on top stay furniture).
@@ -78,6 +80,15 @@ struct SemanticEvidence {
   // Segments read as a sofa's back beside its seat (SemanticStageOptions::sofa_backs), and their voxels.
   int sofa_back_segments = 0;
   int64_t sofa_back_voxels = 0;
+  // Segments whose top surface stands above some class's limit (SemanticStageOptions::high_tops,
+  // HighTopsToOtherClasses), and their voxels.
+  int high_top_segments = 0;
+  int64_t high_top_voxels = 0;
+  // Views whose room-type descriptor was measured against the training views (RoomTypeProbabilities), those
+  // farther than the familiar distance, and the sum of the weights their room evidence kept
+  // (1 - DiscountUnfamiliarRoomView; 1 each with SemanticStageOptions::room_view_familiarity off).
+  int room_views_measured = 0, room_views_unfamiliar = 0;
+  double room_view_weight_sum = 0;
   double familiar_distance = 0;                        // SegmentClassifier::familiar_distance (NaN: forest).
   // Pixels of the views the built-in per-view classifier labelled, and those of superpixels unlike every
   // training superpixel (ViewClassification::unfamiliarity above 1); both 0 with an ONNX object model.

@@ -103,6 +103,13 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
   if (options.counter_min_top_m > 0 && evidence.num_segments >= 0)
     j["low_counters"] = {{"min_top_m", options.counter_min_top_m}, {"segments", evidence.low_counter_segments},
                          {"voxels", evidence.low_counter_voxels}};
+  if (evidence.room_views_measured > 0)
+    j["room_view_appearance"] = {{"views", evidence.room_views_measured},
+                                 {"unfamiliar_views", evidence.room_views_unfamiliar},
+                                 {"discounted", options.room_view_familiarity},
+                                 {"mean_weight", evidence.room_view_weight_sum / double(evidence.room_views_measured)}};
+  if (options.high_tops && evidence.num_segments >= 0)
+    j["high_tops"] = {{"segments", evidence.high_top_segments}, {"voxels", evidence.high_top_voxels}};
   if (options.sofa_backs && evidence.num_segments >= 0)
     j["sofa_backs"] = {{"segments", evidence.sofa_back_segments}, {"voxels", evidence.sofa_back_voxels}};
   j["occupied_voxels"] = labels.map.occupied.size();

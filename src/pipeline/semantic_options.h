@@ -87,6 +87,14 @@ struct SemanticStageOptions {
   // calls sofa (probability >= 0.9) and whose top surface lies more than 0.15 m above that seat's gives its bed
   // probability to sofa before the Voxel-CRF (objects/segment_classifier.h, SofaBacksBesideSeats).
   bool sofa_backs = true;
+  // What stands how high: an object segment whose top surface lies above every chair's, sofa's, bed's, table's,
+  // desk's, counter's or sink's of the world gives those classes' probability to the others before the
+  // Voxel-CRF (objects/segment_classifier.h, HighTopsToOtherClasses; the limits in pipeline/semantic_evidence.cc).
+  bool high_tops = true;
+  // Views unlike the training views say less about their room: a view whose room-type descriptor lies beyond the
+  // training views' familiar distance has its room-type distribution mixed with the uniform one, fully at twice
+  // that distance (perception/room_evidence.h, DiscountUnfamiliarRoomView).
+  bool room_view_familiarity = true;
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
@@ -147,6 +155,15 @@ struct SemanticStageOptions {
                          "before the Voxel-CRF, an object segment the shape classifier calls bed that touches a segment it "
                          "calls sofa (probability 0.9 or more) and stands more than 0.15 m higher is that sofa's back and "
                          "arms: its bed probability goes to sofa; off: the classifier's probabilities stay"),
+            OptionSwitch(&O::high_tops, "high_tops",
+                         "before the Voxel-CRF, an object segment whose top surface stands higher than any chair's or "
+                         "sofa's (1.2 m), table's, desk's, counter's or sink's (1.4 m) or bed's (1.6 m) is none of them: "
+                         "their probability goes to the other classes; off: the classifier's probabilities stay"),
+            OptionSwitch(&O::room_view_familiarity, "room_view_familiarity",
+                         "a view whose room-type descriptor lies farther from the training views than they lie from "
+                         "each other (their 0.99-quantile) says less about its room: its room-type distribution mixes "
+                         "with the uniform one, in proportion up to twice that distance, where it says nothing; off: "
+                         "every view counts fully"),
             OptionNumber(&O::classify_width, "classify_width", 16, 4096, "pixels",
                          "classification view width (the shipped classifiers are trained at 320)"),
             OptionNumber(&O::classify_height, "classify_height", 16, 4096, "pixels",

@@ -30,7 +30,8 @@ namespace {
 constexpr double kMinFloorRecall = 0.95;    // Floor band labelled floor; measured 0.991 (2026-12-06), 0.978 (0.985) before.
 constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.354 with the walls' margin
                                             // (2026-12-06), 0.375 before, 0.431 (0.546).
-constexpr double kMinMeanBoxRecall = 0.20;  // Mean over boxes holding voxels; measured 0.359 with sofa backs beside their
+constexpr double kMinMeanBoxRecall = 0.20;  // Mean over boxes holding voxels; measured 0.376 with classes no higher than
+                                            // their objects stand (semantic.high_tops, 2026-12-06), 0.359 with sofa backs beside their
                                             // seats (semantic.sofa_backs, 2026-12-06), 0.338 with counters at counter
                                             // height (semantic.counter_min_top_m), 0.300 with the walls'
                                             // margin (semantic.wall_margin), 0.287 (the segment
@@ -40,8 +41,9 @@ constexpr double kMinMeanBoxRecall = 0.20;  // Mean over boxes holding voxels; m
                                             // windows found in the walls (2026-12-05; 0.199 before the window pane
                                             // cut from unrecorded glass and the deeper pane voxels), 0.134 without,
                                             // 0.106 before.
-constexpr int kMinRooms = 3;                // Rooms in rooms.geojson; measured 3: living room 33.1 m², kitchen 5.2 m²,
-                                            // bathroom 4.0 m² (2026-12-06, counters at counter height); living room
+constexpr int kMinRooms = 3;                // Rooms in rooms.geojson; measured 3: living room 27.8 m², kitchen 10.5 m²,
+                                            // bathroom 4.0 m² (2026-12-06, unfamiliar views discounted); living
+                                            // room 33.1 m², kitchen 5.2 m², bathroom 4.0 m² (2026-12-06, counters at counter height); living room
                                             // 28.6 m², kitchen 9.6 m², the bathroom 4.0 m² (2026-12-05) (typed kitchen until 2026-12-06,
                                             // bathroom since thin parts give no neighbour rise); 2 before.
 constexpr double kMinUnfamiliarShare = 0.3;  // Object segment voxels unlike every training segment; measured 0.50.
@@ -62,7 +64,9 @@ const std::map<std::string, double> kMinClassRecall = {
                             // (semantic.wall_openings), 0.163 without
     {"garbagebin", 0.0},    // measured 0.173 with the segment model retrained on varied toilets (2026-12-06; 0 with the same
                             // code trained on seeds 110-209), 0.022 before
-    {"refrigerator", 0.10}, // measured 0.165 with the segment model retrained on varied toilets (2026-12-06; 0.083 with the
+    {"refrigerator", 0.10}, // measured 0.677 since classes stand no higher than their objects (2026-12-06: the
+                            // refrigerator's front, top surface 1.7 m, was counter; 0.029 with the segment model of
+                            // seeds 110-209, which gives it door), 0.165 with the segment model retrained on varied toilets (2026-12-06; 0.083 with the
                             // same code trained on seeds 110-209: the fridge's segments flip between refrigerator,
                             // shower curtain and door with the training draw), 0.462 with the one before,
                             // 0.458 with the segment model retrained on fronts seen over the top (2026-12-06), 0.347
@@ -149,6 +153,15 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   // The sectional's back-and-arms band, called bed by its shape, stands above the sofa seat beside it
   // (semantic.sofa_backs; measured 1 segment, 5,679 voxels).
   EXPECT_GE(summary["semantic"]["sofa_backs"]["segments"].get<int>(), 1);
+  // A corner wardrobe (top 2.3 m) called table, and fronts at 1.7-1.9 m called counter, stand higher than any
+  // table or counter (semantic.high_tops; measured 3 segments, 5,414 voxels).
+  EXPECT_GE(summary["semantic"]["high_tops"]["segments"].get<int>(), 2);
+  // The room-type descriptors of nearly all its views lie beyond the training views' familiar distance, and their
+  // room evidence is discounted (semantic.room_view_familiarity; measured 45 of 45 views, mean weight 0.09;
+  // generated randomised scans: see docs/rooms.md).
+  const auto& room_views = summary["semantic"]["room_view_appearance"];
+  EXPECT_GE(room_views["unfamiliar_views"].get<int>(), int(0.8 * room_views["views"].get<int>()));
+  EXPECT_LE(room_views["mean_weight"].get<double>(), 0.3);
   // Most of the studio's object segments are shaped unlike every training segment (measured 0.52; generated
   // scans 0.02-0.05), and the run says so in a warning.
   const double unfamiliar = summary["semantic"]["object_segment_shapes"]["unfamiliar_share"].get<double>();
@@ -212,9 +225,11 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   EXPECT_LT(toilet[0].second, kMaxBathroomArea) << "the toilet's room";
   std::printf("toilet in room %d (%.1f m2), bed in room %d (%.1f m2)\n", toilet[0].first, toilet[0].second, bed[0].first, bed[0].second);
   // The studio holds a bathroom and a kitchen (issue 16): the toilet's room is typed bathroom, the
-  // refrigerator's kitchen (measured 0.97 and 0.89; the kitchen corner is 5.2 of the 38.3 m² open room since
-  // segments below counter height are no counters (9.5 m² before, with two bins read as counters), split off since
-  // room_types.min_split_fraction is 0.1).
+  // refrigerator's kitchen (measured 1.00 and 0.83; the kitchen corner is 10.5 of the 38.3 m² open room since the
+  // views' room evidence is discounted where they look unlike the training views (2026-12-06: their room
+  // classifier called 43 of the 45 views living room, and the corner was no kitchen once the refrigerator's front
+  // was no longer read as counter); 5.2 m² since segments below counter height are no counters (9.5 m² before,
+  // with two bins read as counters), split off since room_types.min_split_fraction is 0.1).
   auto type_of = [&](int id) {
     for (const auto& f : rooms["features"])
       if (f["properties"]["id"].get<int>() == id) return f["properties"]["type"].get<std::string>();

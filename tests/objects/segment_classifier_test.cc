@@ -120,6 +120,43 @@ TEST(SegmentClassifier, LowCounterGivesItsProbabilityToTable) {
   EXPECT_FALSE(LowCounterToTable(0.47, counter, table, 0.75, &p));
 }
 
+// What stands how high: a segment whose most probable class cannot stand that high gives the probability of
+// every class it exceeds to the others, in proportion; within the limits, or with a plausible most probable
+// class, nothing moves.
+TEST(SegmentClassifier, HighTopGivesItsClassesProbabilityToTheOthers) {
+  const int table = 1, chair = 2, cabinet = 3;
+  const std::vector<ClassTopLimit> limits = {{table, 1.4}, {chair, 1.2}, {7, 1.0}, {-1, 1.0}};  // Out of range: ignored.
+  const std::vector<double> p0 = {0.01, 0.5, 0.29, 0.2};
+  std::vector<double> p = p0;
+  EXPECT_TRUE(HighTopsToOtherClasses(2.3, limits, &p));  // A wardrobe's top.
+  EXPECT_DOUBLE_EQ(p[table], 0.01);
+  EXPECT_DOUBLE_EQ(p[chair], 0.01);
+  const double moved = 0.49 + 0.28, kept = 0.0 + 0.19;  // Above the floor (0.01).
+  EXPECT_NEAR(p[cabinet], 0.2 + moved * 0.19 / kept, 1e-12);
+  EXPECT_NEAR(p[0], 0.01, 1e-12);  // At the floor: gets nothing.
+  EXPECT_NEAR(p[0] + p[1] + p[2] + p[3], 1.0, 1e-12);
+  p = {0.01, 0.29, 0.5, 0.2};  // A chair over the chair's limit, not the table's: only the chair goes.
+  EXPECT_TRUE(HighTopsToOtherClasses(1.3, limits, &p));
+  EXPECT_DOUBLE_EQ(p[chair], 0.01);
+  EXPECT_NEAR(p[table], 0.29 + 0.49 * 0.28 / (0.28 + 0.19), 1e-12);
+  EXPECT_NEAR(p[cabinet], 0.2 + 0.49 * 0.19 / (0.28 + 0.19), 1e-12);
+  EXPECT_NEAR(p[0] + p[1] + p[2] + p[3], 1.0, 1e-12);
+  for (double top : {0.72, 1.2, 1.4}) {  // Within the table's limit (a bar table at 1.1 m).
+    p = p0;
+    EXPECT_FALSE(HighTopsToOtherClasses(top, limits, &p)) << top;
+    EXPECT_EQ(p, p0);
+  }
+  p = {0.01, 0.2, 0.09, 0.7};  // The most probable class (cabinet) has no limit: the rest stays as given.
+  const std::vector<double> p1 = p;
+  EXPECT_FALSE(HighTopsToOtherClasses(2.3, limits, &p));
+  EXPECT_EQ(p, p1);
+  p = p0;
+  EXPECT_FALSE(HighTopsToOtherClasses(std::nan(""), limits, &p));
+  EXPECT_EQ(p, p0);
+  p = {0.01, 0.6, 0.38, 0.01};  // Every class above the floor excluded: nowhere to move.
+  EXPECT_FALSE(HighTopsToOtherClasses(2.3, limits, &p));
+}
+
 // A sofa's back beside its seat: the back (called bed) touching a sure seat and standing higher becomes sofa; a bed
 // beside a sofa at its own height, a bed beside an unsure seat, or a bed apart from the seat stays bed.
 TEST(SegmentClassifier, SofaBackBesideItsSeatIsSofa) {

@@ -63,5 +63,54 @@ TEST(RoomTypeProbabilities, TooFewObjectPixelsMeansOther) {
   EXPECT_NEAR(sum, 1.0, 1e-12);
 }
 
+// A view unlike every training view says less about its room: at or under the familiar distance it counts fully,
+// halfway to twice that distance half, from twice on not at all; the sum stays.
+TEST(RoomTypeProbabilities, UnfamiliarViewSaysLessAboutItsRoom) {
+  const std::vector<double> p0 = {0.7, 0.2, 0.1, 0.0};
+  std::vector<double> p = p0;
+  EXPECT_EQ(DiscountUnfamiliarRoomView(0.8, &p), 0.0);
+  EXPECT_EQ(p, p0);
+  EXPECT_EQ(DiscountUnfamiliarRoomView(1.0, &p), 0.0);
+  EXPECT_EQ(DiscountUnfamiliarRoomView(std::nan(""), &p), 0.0);
+  EXPECT_EQ(p, p0);
+  EXPECT_NEAR(DiscountUnfamiliarRoomView(1.5, &p), 0.5, 1e-12);
+  EXPECT_NEAR(p[0], 0.5 * 0.7 + 0.5 * 0.25, 1e-12);
+  EXPECT_NEAR(p[3], 0.5 * 0.25, 1e-12);
+  EXPECT_NEAR(p[0] + p[1] + p[2] + p[3], 1.0, 1e-12);
+  for (double u : {2.0, 7.0}) {
+    p = p0;
+    EXPECT_EQ(DiscountUnfamiliarRoomView(u, &p), 1.0) << u;
+    for (double v : p) EXPECT_NEAR(v, 0.25, 1e-12) << u;
+  }
+
+  // The unfamiliarity comes from the same search as the probabilities: a view on a training descriptor is
+  // familiar, one far from both is not; a view with too few object pixels is not measured.
+  const RenderedView view = GreyView();
+  const int dims = RoomDescriptorDims(3);
+  const std::vector<float> d = RoomViewDescriptor(view, Classes(), 3);
+  std::vector<float> rows;
+  for (int r = 0; r < 4; ++r)
+    for (int k = 0; k < dims; ++k) rows.push_back(d[size_t(k)] + 0.01f * float(r) * float(k % 3));
+  KnnOptions options;
+  options.k = 2;
+  Result<KnnClassifier> knn = KnnClassifier::Train(rows, dims, {0, 0, 1, 1}, kNumRoomTypeClasses, options);
+  ASSERT_TRUE(knn.ok()) << knn.status().message();
+  const double familiar = knn->TrainingNeighbourDistanceQuantile(KnnClassifier::kFamiliarQuantile);
+  ASSERT_GT(familiar, 0.0);
+  double u = -1;
+  p = RoomTypeProbabilities(*knn, d, 0.25, 0.02, familiar, &u);
+  EXPECT_LE(u, 1.0);
+  EXPECT_EQ(p, RoomTypeProbabilities(*knn, d, 0.25, 0.02));
+  std::vector<float> far = d;
+  for (float& v : far) v += 5.0f;
+  RoomTypeProbabilities(*knn, far, 0.25, 0.02, familiar, &u);
+  EXPECT_GT(u, 2.0);
+  p = RoomTypeProbabilities(*knn, d, 0.01, 0.02, familiar, &u);
+  EXPECT_TRUE(std::isnan(u));
+  EXPECT_EQ(p[kOtherRoomTypeIndex], 1.0);
+  RoomTypeProbabilities(*knn, d, 0.25, 0.02, 0.0, &u);  // No familiar distance: not measured.
+  EXPECT_TRUE(std::isnan(u));
+}
+
 }  // namespace
 }  // namespace semvox
