@@ -252,6 +252,8 @@ Result<PipelineResult> RunPipeline(const std::string& input, const PipelineOptio
     if (config.semantic.wall_openings) ApplyWallOpenings(map, WallOpeningOptions{}, &*r.labels);
     if (config.semantic.wall_margin && r.evidence->segmentation)
       ApplyWallMargin(map, *r.evidence->segmentation, config.semantic.wall_margin_min_neighbours, &*r.labels);
+    if (config.semantic.wall_colour)
+      ApplyWallColour(map, config.semantic.wall_colour_min_distance, config.semantic.wall_colour_rings, &*r.labels);
     clock.AddTo(&r.seconds, "voxel_crf");
     progress.End();
   }

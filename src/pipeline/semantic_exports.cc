@@ -100,6 +100,9 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
                                     : nlohmann::ordered_json("no model");
   if (options.floor_surface) j["floor_surface"] = {{"relabelled_voxels", labels.floor_surface_voxels}};
   if (options.wall_margin) j["wall_margin"] = {{"relabelled_voxels", labels.wall_margin_voxels}};
+  if (options.wall_colour)
+    j["wall_colour"] = {{"relabelled_voxels", labels.wall_colour_voxels},
+                        {"walls_rgb", {labels.wall_colour[0], labels.wall_colour[1], labels.wall_colour[2]}}};
   if (options.counter_min_top_m > 0 && evidence.num_segments >= 0)
     j["low_counters"] = {{"min_top_m", options.counter_min_top_m}, {"segments", evidence.low_counter_segments},
                          {"voxels", evidence.low_counter_voxels}};

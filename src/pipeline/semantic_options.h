@@ -79,6 +79,12 @@ struct SemanticStageOptions {
   // floor nor ceiling, after the doors and windows (pipeline/semantic_solve.h).
   bool wall_margin = true;
   int wall_margin_min_neighbours = 2;
+  // The walls' colour: wall voxels whose colour lies at least wall_colour_min_distance (RGB) from the walls'
+  // median colour and closer to an object neighbour's take that neighbour's label, over wall_colour_rings rings,
+  // after the walls' margin (pipeline/semantic_solve.h, ApplyWallColour).
+  bool wall_colour = true;
+  double wall_colour_min_distance = 40;
+  int wall_colour_rings = 1;
   // A counter is a work surface at counter height: an object segment whose top surface lies lower than this
   // (metres above the floor) is no counter, and the segment classifier's counter probability goes to table
   // before the Voxel-CRF (objects/segment_classifier.h, LowCounterToTable). 0: off.
@@ -147,6 +153,16 @@ struct SemanticStageOptions {
                          "their neighbours that are not wall, floor or ceiling carry; off: the Voxel-CRF's label stays"),
             OptionNumber(&O::wall_margin_min_neighbours, "wall_margin_min_neighbours", 1, 26, "voxels",
                          "how many of a margin voxel's 26 neighbours must carry that label for wall_margin"),
+            OptionSwitch(&O::wall_colour, "wall_colour",
+                         "after the walls' margin, a voxel labelled wall whose colour lies wall_colour_min_distance or "
+                         "more from the walls' median colour, and closer to that of a neighbour labelled as an object, "
+                         "takes that neighbour's label (a wooden wardrobe's front, a window's frame, a toilet's back "
+                         "in the wall band); off: the label stays wall"),
+            OptionNumber(&O::wall_colour_min_distance, "wall_colour_min_distance", 0, 442, "RGB units",
+                         "how far (Euclidean, 0-255 per channel) a wall voxel's colour must lie from the walls' median "
+                         "colour for wall_colour"),
+            OptionNumber(&O::wall_colour_rings, "wall_colour_rings", 0, 20, "voxels",
+                         "how many voxels deep an object's colour spreads into the wall band for wall_colour"),
             OptionNumber(&O::counter_min_top_m, "counter_min_top_m", 0, 3, "metres",
                          "an object segment whose top surface lies lower than this above the floor is no counter: the "
                          "segment classifier's counter probability goes to table before the Voxel-CRF (kitchen counters "

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 
 #include <tbb/parallel_for.h>
 
@@ -163,6 +164,53 @@ void ApplyWallMargin(const VoxelMap& map, const SegmentationResult& segmentation
   for (const auto& [voxel, label] : changes) labels->map.Find(voxel)->label = label;
   labels->wall_margin_voxels = changes.size();
   SEMVOX_INFO("wall margin: " << changes.size() << " wall voxels beside objects relabelled");
+}
+
+void ApplyWallColour(const VoxelMap& map, double min_distance, int rings, SemanticLabels* labels) {
+  const VoxelGrid& grid = map.grid;
+  labels->wall_colour_voxels = 0;
+  auto coloured = [](const SemanticVoxelRecord& v) { return (v.rgb[0] | v.rgb[1] | v.rgb[2]) != 0; };
+  std::array<std::vector<uint8_t>, 3> channels;
+  for (const SemanticVoxelRecord& v : labels->map.occupied)
+    if (v.label == nyu40::kWall && coloured(v))
+      for (int k = 0; k < 3; ++k) channels[size_t(k)].push_back(v.rgb[size_t(k)]);
+  if (channels[0].empty()) return;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<uint8_t>& c = channels[size_t(k)];
+    std::nth_element(c.begin(), c.begin() + ptrdiff_t(c.size() / 2), c.end());
+    labels->wall_colour[size_t(k)] = c[c.size() / 2];
+  }
+  auto distance = [](const std::array<uint8_t, 3>& a, const std::array<uint8_t, 3>& b) {
+    double d = 0;
+    for (int k = 0; k < 3; ++k) d += double(int(a[size_t(k)]) - int(b[size_t(k)])) * double(int(a[size_t(k)]) - int(b[size_t(k)]));
+    return std::sqrt(d);
+  };
+  auto usable = [](int label) { return label != 0 && label != nyu40::kWall && label != nyu40::kFloor && label != nyu40::kCeiling; };
+  for (int ring = 0; ring < rings; ++ring) {
+    std::vector<std::pair<uint32_t, uint16_t>> changes;  // Decided on the labels before this ring.
+    for (const SemanticVoxelRecord& v : labels->map.occupied) {
+      if (v.label != nyu40::kWall || !coloured(v)) continue;
+      const double off_wall = distance(v.rgb, labels->wall_colour);
+      if (off_wall < min_distance) continue;
+      const auto c = grid.Cell(v.voxel);
+      double best = off_wall;
+      int label = 0;
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            if ((dx | dy | dz) == 0 || !grid.Contains(c[0] + dx, c[1] + dy, c[2] + dz)) continue;
+            const SemanticVoxelRecord* r = labels->map.Find(uint32_t(grid.Index(c[0] + dx, c[1] + dy, c[2] + dz)));
+            if (!r || !usable(int(r->label)) || !coloured(*r)) continue;
+            const double d = distance(v.rgb, r->rgb);
+            if (d < best || (d == best && label != 0 && int(r->label) < label)) best = d, label = int(r->label);
+          }
+      if (label != 0) changes.emplace_back(v.voxel, uint16_t(label));
+    }
+    if (changes.empty()) break;
+    for (const auto& [voxel, label] : changes) labels->map.Find(voxel)->label = label;
+    labels->wall_colour_voxels += changes.size();
+  }
+  SEMVOX_INFO("wall colour: " << labels->wall_colour_voxels << " wall voxels off the walls' colour relabelled");
 }
 
 void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, SemanticLabels* labels) {

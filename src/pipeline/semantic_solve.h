@@ -32,6 +32,8 @@ struct SemanticLabels {
   double seconds_items = 0;
   size_t floor_surface_voxels = 0;    // ApplyFloorSurface: floor voxels above the floor's surface relabelled.
   size_t wall_margin_voxels = 0;      // ApplyWallMargin: wall voxels of the walls' margin relabelled.
+  size_t wall_colour_voxels = 0;      // ApplyWallColour: wall voxels off the walls' colour relabelled.
+  std::array<uint8_t, 3> wall_colour{0, 0, 0};  // ApplyWallColour: the walls' colour (per-channel median).
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
@@ -66,6 +68,15 @@ void ApplyFloorSurface(const VoxelMap& map, double margin_m, SemanticLabels* lab
 // `min_neighbours` of them carry it (the smallest id on a tie), read from the labels before this step; a
 // bare wall's margin has no such neighbours and stays wall.
 void ApplyWallMargin(const VoxelMap& map, const SegmentationResult& segmentation, int min_neighbours, SemanticLabels* labels);
+
+// A wall is painted one colour; what stands against it or is set in it, a wooden wardrobe's front, a window's
+// frame, a toilet's back, is another. The walls' colour is the per-channel median of the voxels labelled wall.
+// A voxel labelled wall whose colour lies at least `min_distance` (RGB, 0-441) from the walls' colour and closer
+// to that of one of its 26 neighbours labelled neither wall, floor nor ceiling takes the label of the closest
+// such neighbour (the smallest id on a tie). This repeats for `rings` rings, each read from the labels before it,
+// so that an object's colour spreads into the wall band at most `rings` voxels. Voxels without a colour (rgb 0, 0,
+// 0: completed ones) are left alone.
+void ApplyWallColour(const VoxelMap& map, double min_distance, int rings, SemanticLabels* labels);
 
 // Doors and windows of the map's walls (objects/wall_openings.h) relabel the labelled voxels of their pane or
 // closed leaf that came out wall, door or window, and every voxel of an open leaf but floor and ceiling.

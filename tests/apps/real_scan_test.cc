@@ -28,9 +28,12 @@ namespace {
 // segments, and the voxels holding scan points kept occupied (semantic.keep_scan_points); before that
 // setting in brackets.
 constexpr double kMinFloorRecall = 0.95;    // Floor band labelled floor; measured 0.991 (2026-12-06), 0.978 (0.985) before.
-constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.354 with the walls' margin
+constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.317 with the walls' colour
+                                            // (2026-12-06), 0.354 with the walls' margin
                                             // (2026-12-06), 0.375 before, 0.431 (0.546).
-constexpr double kMinMeanBoxRecall = 0.20;  // Mean over boxes holding voxels; measured 0.376 with classes no higher than
+constexpr double kMinMeanBoxRecall = 0.25;  // Mean over boxes holding voxels; measured 0.402 with the walls' colour
+                                            // (semantic.wall_colour, 2026-12-06; 0.286 with the segment model of seeds
+                                            // 110-209), 0.376 with classes no higher than
                                             // their objects stand (semantic.high_tops, 2026-12-06), 0.359 with sofa backs beside their
                                             // seats (semantic.sofa_backs, 2026-12-06), 0.338 with counters at counter
                                             // height (semantic.counter_min_top_m), 0.300 with the walls'
@@ -41,7 +44,8 @@ constexpr double kMinMeanBoxRecall = 0.20;  // Mean over boxes holding voxels; m
                                             // windows found in the walls (2026-12-05; 0.199 before the window pane
                                             // cut from unrecorded glass and the deeper pane voxels), 0.134 without,
                                             // 0.106 before.
-constexpr int kMinRooms = 3;                // Rooms in rooms.geojson; measured 3: living room 27.8 m², kitchen 10.5 m²,
+constexpr int kMinRooms = 3;                // Rooms in rooms.geojson; measured 3: living room 28.2 m², kitchen 10.1 m²,
+                                            // bathroom 4.0 m² (2026-12-06, the walls' colour); living room 27.8 m², kitchen 10.5 m²,
                                             // bathroom 4.0 m² (2026-12-06, unfamiliar views discounted); living
                                             // room 33.1 m², kitchen 5.2 m², bathroom 4.0 m² (2026-12-06, counters at counter height); living room
                                             // 28.6 m², kitchen 9.6 m², the bathroom 4.0 m² (2026-12-05) (typed kitchen until 2026-12-06,
@@ -81,7 +85,7 @@ const std::map<std::string, double> kMinClassRecall = {
                             // retrained on varied toilets (2026-12-06; 0.569 with the
                             // same code trained on seeds 110-209), 0.082 since thin parts give no neighbour rise
                             // (2026-12-06), 0.000 before
-    {"window", 0.40},       // measured 0.477 with the walls' margin (2026-12-06: the reveals beside the panes), 0.393
+    {"window", 0.40},       // measured 0.627 with the walls' colour (2026-12-06), 0.477 with the walls' margin (2026-12-06: the reveals beside the panes), 0.393
                             // with the windows found in the walls (0.262 before the pane cut from
                             // unrecorded glass), 0.046 without
 };
@@ -159,6 +163,9 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   // The room-type descriptors of nearly all its views lie beyond the training views' familiar distance, and their
   // room evidence is discounted (semantic.room_view_familiarity; measured 45 of 45 views, mean weight 0.09;
   // generated randomised scans: see docs/rooms.md).
+  // Window frames, door leaves, the toilet's back and the wall units' fronts in the wall band take their objects'
+  // labels by colour (semantic.wall_colour; measured 2,594 voxels, walls' colour (138, 126, 102)).
+  EXPECT_GE(summary["semantic"]["wall_colour"]["relabelled_voxels"].get<int>(), 500);
   const auto& room_views = summary["semantic"]["room_view_appearance"];
   EXPECT_GE(room_views["unfamiliar_views"].get<int>(), int(0.8 * room_views["views"].get<int>()));
   EXPECT_LE(room_views["mean_weight"].get<double>(), 0.3);
@@ -225,7 +232,7 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   EXPECT_LT(toilet[0].second, kMaxBathroomArea) << "the toilet's room";
   std::printf("toilet in room %d (%.1f m2), bed in room %d (%.1f m2)\n", toilet[0].first, toilet[0].second, bed[0].first, bed[0].second);
   // The studio holds a bathroom and a kitchen (issue 16): the toilet's room is typed bathroom, the
-  // refrigerator's kitchen (measured 1.00 and 0.83; the kitchen corner is 10.5 of the 38.3 m² open room since the
+  // refrigerator's kitchen (measured 1.00 and 0.83; the kitchen corner is 10.1-10.5 of the 38.3 m² open room since the
   // views' room evidence is discounted where they look unlike the training views (2026-12-06: their room
   // classifier called 43 of the 45 views living room, and the corner was no kitchen once the refrigerator's front
   // was no longer read as counter); 5.2 m² since segments below counter height are no counters (9.5 m² before,

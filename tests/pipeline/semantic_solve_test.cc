@@ -1,10 +1,12 @@
 // pipeline/semantic_solve.h: ApplyFloorSurface, the floor as a surface: floor voxels wholly above it take the
 // label of what stands on them or beside them; voxels at the surface, and floor voxels with nothing else
 // around them, stay floor. ApplyWallMargin: wall voxels in the cell the segmentation adds around the walls take
-// the label of the object beside them; a bare wall's margin and the wall itself stay wall.
+// the label of the object beside them; a bare wall's margin and the wall itself stay wall. ApplyWallColour: wall
+// voxels off the walls' colour take the label of the object beside them whose colour is closer.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 
 #include "core/labels.h"
 #include "objects/object_segments.h"
@@ -139,6 +141,71 @@ TEST(WallMargin, WithoutTheSegmentationNothingChanges) {
   ApplyWallMargin(s.map, s.seg, 2, &s.labels);
   EXPECT_EQ(s.labels.wall_margin_voxels, 0u);
   EXPECT_EQ(s.At(1, 4, 3), nyu40::kWall);
+}
+
+// A beige wall three voxels thick (x = 0..2, all y, z = 2..7) with a wooden wardrobe against it (x = 3..4, y =
+// 3..5): the wardrobe's front inside the wall band (x = 1..2, y = 3..5) came out wall in the wardrobe's colour.
+struct ColourScene : FloorScene {
+  void Put(int x, int y, int z, int label, std::array<uint8_t, 3> rgb) {
+    Add(x, y, z, label);
+    labels.map.occupied.back().rgb = rgb;
+  }
+};
+constexpr std::array<uint8_t, 3> kBeige{140, 130, 110}, kWood{120, 90, 60}, kShadow{120, 112, 95};  // Shadow: 30.8 from beige.
+
+ColourScene MakeColourScene() {
+  ColourScene s;
+  s.map.grid = VoxelGrid(0.05, {32763, 32763, 32766}, {10, 10, 10});
+  for (int y = 0; y < 10; ++y)
+    for (int z = 2; z < 8; ++z)
+      for (int x = 0; x < 3; ++x) {
+        const bool front = x >= 1 && y >= 3 && y <= 5;
+        const bool shadow = x == 2 && y == 6 && z == 4;
+        const bool stray = x == 2 && y == 8 && z == 4;  // Wood-coloured, nothing labelled an object beside it.
+        const bool unseen = x == 2 && y == 2 && z == 3;  // Completed: no colour.
+        s.Put(x, y, z, nyu40::kWall, front || stray ? kWood : shadow ? kShadow : unseen ? std::array<uint8_t, 3>{0, 0, 0} : kBeige);
+      }
+  for (int y = 3; y <= 5; ++y)
+    for (int z = 2; z < 8; ++z)
+      for (int x = 3; x <= 4; ++x) s.Put(x, y, z, nyu40::kCabinet, kWood);
+  s.Put(3, 8, 4, nyu40::kFloor, kWood);  // Floor and ceiling never give their label.
+  s.Put(3, 9, 4, nyu40::kCeiling, kWood);
+  s.Put(3, 2, 3, nyu40::kChair, kBeige);  // Beside the unseen voxel.
+  s.Sort();
+  return s;
+}
+
+TEST(WallColour, WallVoxelsInAnObjectsColourTakeItsLabel) {
+  ColourScene s = MakeColourScene();
+  ApplyWallColour(s.map, 40, 3, &s.labels);
+  EXPECT_EQ(s.labels.wall_colour, kBeige) << "the walls' median colour";
+  for (int y = 3; y <= 5; ++y)
+    for (int z = 2; z < 8; ++z) {
+      EXPECT_EQ(s.At(2, y, z), nyu40::kCabinet) << "the front beside the wardrobe (ring 1), y " << y << " z " << z;
+      EXPECT_EQ(s.At(1, y, z), nyu40::kCabinet) << "the front one deeper (ring 2), y " << y << " z " << z;
+      EXPECT_EQ(s.At(0, y, z), nyu40::kWall) << "the wall's own colour stays wall";
+    }
+  EXPECT_EQ(s.At(2, 6, 4), nyu40::kWall) << "a shadow on the wall, under the distance, stays wall";
+  EXPECT_EQ(s.At(2, 8, 4), nyu40::kWall) << "off the walls' colour but beside no object (floor and ceiling give nothing)";
+  EXPECT_EQ(s.At(2, 2, 3), nyu40::kWall) << "a voxel without colour is left alone";
+  EXPECT_EQ(s.labels.wall_colour_voxels, 36u);
+}
+
+TEST(WallColour, RingsAndDistanceDecide) {
+  ColourScene one = MakeColourScene();
+  ApplyWallColour(one.map, 40, 1, &one.labels);
+  EXPECT_EQ(one.At(2, 4, 4), nyu40::kCabinet);
+  EXPECT_EQ(one.At(1, 4, 4), nyu40::kWall) << "one ring: the deeper front stays wall";
+  EXPECT_EQ(one.labels.wall_colour_voxels, 18u);
+  ColourScene near = MakeColourScene();
+  ApplyWallColour(near.map, 30, 3, &near.labels);
+  EXPECT_EQ(near.At(2, 6, 4), nyu40::kWall) << "the shadow lies 30.8 from beige, 41.3 from wood: the wall is nearer";
+  ColourScene far = MakeColourScene();
+  ApplyWallColour(far.map, 100, 3, &far.labels);
+  EXPECT_EQ(far.labels.wall_colour_voxels, 0u) << "wood lies 67.1 from beige";
+  ColourScene none = MakeColourScene();
+  ApplyWallColour(none.map, 40, 0, &none.labels);
+  EXPECT_EQ(none.labels.wall_colour_voxels, 0u);
 }
 
 }  // namespace
