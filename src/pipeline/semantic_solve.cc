@@ -169,7 +169,8 @@ void ApplyWallMargin(const VoxelMap& map, const SegmentationResult& segmentation
 void ApplyWallColour(const VoxelMap& map, double min_distance, int rings, SemanticLabels* labels) {
   const VoxelGrid& grid = map.grid;
   labels->wall_colour_voxels = 0;
-  auto coloured = [](const SemanticVoxelRecord& v) { return (v.rgb[0] | v.rgb[1] | v.rgb[2]) != 0; };
+  // A completed voxel was never seen: its colour is borrowed from a neighbour of its label (MakeSemanticMap).
+  auto coloured = [](const SemanticVoxelRecord& v) { return v.completed == 0; };
   std::array<std::vector<uint8_t>, 3> channels;
   for (const SemanticVoxelRecord& v : labels->map.occupied)
     if (v.label == nyu40::kWall && coloured(v))

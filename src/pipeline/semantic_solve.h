@@ -74,8 +74,8 @@ void ApplyWallMargin(const VoxelMap& map, const SegmentationResult& segmentation
 // A voxel labelled wall whose colour lies at least `min_distance` (RGB, 0-441) from the walls' colour and closer
 // to that of one of its 26 neighbours labelled neither wall, floor nor ceiling takes the label of the closest
 // such neighbour (the smallest id on a tie). This repeats for `rings` rings, each read from the labels before it,
-// so that an object's colour spreads into the wall band at most `rings` voxels. Voxels without a colour (rgb 0, 0,
-// 0: completed ones) are left alone.
+// so that an object's colour spreads into the wall band at most `rings` voxels. Completed voxels (never seen, their
+// colour borrowed) neither change nor give their label, and do not count in the walls' colour.
 void ApplyWallColour(const VoxelMap& map, double min_distance, int rings, SemanticLabels* labels);
 
 // Doors and windows of the map's walls (objects/wall_openings.h) relabel the labelled voxels of their pane or

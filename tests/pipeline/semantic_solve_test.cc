@@ -162,15 +162,16 @@ ColourScene MakeColourScene() {
         const bool front = x >= 1 && y >= 3 && y <= 5;
         const bool shadow = x == 2 && y == 6 && z == 4;
         const bool stray = x == 2 && y == 8 && z == 4;  // Wood-coloured, nothing labelled an object beside it.
-        const bool unseen = x == 2 && y == 2 && z == 3;  // Completed: no colour.
-        s.Put(x, y, z, nyu40::kWall, front || stray ? kWood : shadow ? kShadow : unseen ? std::array<uint8_t, 3>{0, 0, 0} : kBeige);
+        const bool unseen = x == 2 && y == 2 && z == 3;  // Completed, its colour borrowed.
+        s.Put(x, y, z, nyu40::kWall, front || stray || unseen ? kWood : shadow ? kShadow : kBeige);
+        if (unseen) s.labels.map.occupied.back().completed = 1;
       }
   for (int y = 3; y <= 5; ++y)
     for (int z = 2; z < 8; ++z)
       for (int x = 3; x <= 4; ++x) s.Put(x, y, z, nyu40::kCabinet, kWood);
   s.Put(3, 8, 4, nyu40::kFloor, kWood);  // Floor and ceiling never give their label.
   s.Put(3, 9, 4, nyu40::kCeiling, kWood);
-  s.Put(3, 2, 3, nyu40::kChair, kBeige);  // Beside the unseen voxel.
+  s.Put(3, 2, 3, nyu40::kChair, kWood);  // Beside the unseen voxel.
   s.Sort();
   return s;
 }
@@ -187,7 +188,7 @@ TEST(WallColour, WallVoxelsInAnObjectsColourTakeItsLabel) {
     }
   EXPECT_EQ(s.At(2, 6, 4), nyu40::kWall) << "a shadow on the wall, under the distance, stays wall";
   EXPECT_EQ(s.At(2, 8, 4), nyu40::kWall) << "off the walls' colour but beside no object (floor and ceiling give nothing)";
-  EXPECT_EQ(s.At(2, 2, 3), nyu40::kWall) << "a voxel without colour is left alone";
+  EXPECT_EQ(s.At(2, 2, 3), nyu40::kWall) << "a completed voxel is left alone, whatever its borrowed colour";
   EXPECT_EQ(s.labels.wall_colour_voxels, 36u);
 }
 
