@@ -249,6 +249,8 @@ Result<PipelineResult> RunPipeline(const std::string& input, const PipelineOptio
     if (config.semantic.other_labels && r.models->other)
       ApplyOtherLabels(map, *r.evidence, r.models->crf, *r.models->other, kOtherMinVoxels, &*r.labels);
     if (config.semantic.item_labels && r.models->items) ApplyItemLabels(map, *r.evidence, *r.models->items, kOtherMinVoxels, &*r.labels);
+    if (config.semantic.refrigerator_wood_chroma > 0)
+      ApplyRefrigeratorColour(map, config.semantic.refrigerator_wood_chroma, &*r.labels);
     if (config.semantic.wall_openings) ApplyWallOpenings(map, WallOpeningOptions{}, &*r.labels);
     if (config.semantic.wall_margin && r.evidence->segmentation)
       ApplyWallMargin(map, *r.evidence->segmentation, config.semantic.wall_margin_min_neighbours, &*r.labels);

@@ -103,6 +103,9 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
   if (options.wall_colour)
     j["wall_colour"] = {{"relabelled_voxels", labels.wall_colour_voxels},
                         {"walls_rgb", {labels.wall_colour[0], labels.wall_colour[1], labels.wall_colour[2]}}};
+  if (options.refrigerator_wood_chroma > 0)
+    j["refrigerator_colour"] = {{"wood_min_chroma", options.refrigerator_wood_chroma},
+                                {"relabelled_voxels", labels.refrigerator_colour_voxels}};
   if (options.counter_min_top_m > 0 && evidence.num_segments >= 0)
     j["low_counters"] = {{"min_top_m", options.counter_min_top_m}, {"segments", evidence.low_counter_segments},
                          {"voxels", evidence.low_counter_voxels}};

@@ -85,6 +85,10 @@ struct SemanticStageOptions {
   bool wall_colour = true;
   double wall_colour_min_distance = 40;
   int wall_colour_rings = 1;
+  // A refrigerator is no wooden box: voxels labelled refrigerator whose neighbourhood's median colour is wood's
+  // (hue 10-50 degrees) with a chroma (red - blue) of refrigerator_wood_chroma or more are a cabinet of its shape,
+  // after the items (pipeline/semantic_solve.h, ApplyRefrigeratorColour). 0: off.
+  int refrigerator_wood_chroma = 60;
   // A counter is a work surface at counter height: an object segment whose top surface lies lower than this
   // (metres above the floor) is no counter, and the segment classifier's counter probability goes to table
   // before the Voxel-CRF (objects/segment_classifier.h, LowCounterToTable). 0: off.
@@ -163,6 +167,11 @@ struct SemanticStageOptions {
                          "colour for wall_colour"),
             OptionNumber(&O::wall_colour_rings, "wall_colour_rings", 0, 20, "voxels",
                          "how many voxels deep an object's colour spreads into the wall band for wall_colour"),
+            OptionNumber(&O::refrigerator_wood_chroma, "refrigerator_wood_chroma", 0, 255, "RGB units",
+                         "after the items, a voxel labelled refrigerator whose colour (the median over it and its "
+                         "neighbours labelled refrigerator) is wood's, red >= green >= blue with a hue of 10-50 degrees "
+                         "and a chroma (red - blue) of this or more, is a cabinet of its shape (a wooden pantry unit, "
+                         "tall cabinet or the cabinet over the refrigerator): refrigerators are no wooden boxes; 0: off"),
             OptionNumber(&O::counter_min_top_m, "counter_min_top_m", 0, 3, "metres",
                          "an object segment whose top surface lies lower than this above the floor is no counter: the "
                          "segment classifier's counter probability goes to table before the Voxel-CRF (kitchen counters "

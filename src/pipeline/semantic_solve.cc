@@ -214,6 +214,44 @@ void ApplyWallColour(const VoxelMap& map, double min_distance, int rings, Semant
   SEMVOX_INFO("wall colour: " << labels->wall_colour_voxels << " wall voxels off the walls' colour relabelled");
 }
 
+bool WoodColour(const std::array<int, 3>& rgb, int min_chroma) {
+  const int r = rgb[0], g = rgb[1], b = rgb[2];
+  if (!(r >= g && g >= b) || r - b < min_chroma) return false;
+  const double hue = 60.0 * double(g - b) / double(r - b);  // Degrees; red 0, yellow 60.
+  return hue >= kWoodHueMinDeg && hue <= kWoodHueMaxDeg;
+}
+
+void ApplyRefrigeratorColour(const VoxelMap& map, int min_chroma, SemanticLabels* labels) {
+  const VoxelGrid& grid = map.grid;
+  labels->refrigerator_colour_voxels = 0;
+  auto fridge = [](const SemanticVoxelRecord& v) { return v.label == nyu40::kRefrigerator && v.completed == 0; };
+  std::vector<uint32_t> changes;  // Decided on the labels before this step.
+  std::array<std::vector<uint8_t>, 3> channels;
+  for (const SemanticVoxelRecord& v : labels->map.occupied) {
+    if (!fridge(v)) continue;
+    for (auto& c : channels) c.clear();
+    const auto c = grid.Cell(v.voxel);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (!grid.Contains(c[0] + dx, c[1] + dy, c[2] + dz)) continue;
+          const SemanticVoxelRecord* r = labels->map.Find(uint32_t(grid.Index(c[0] + dx, c[1] + dy, c[2] + dz)));
+          if (!r || !fridge(*r)) continue;
+          for (int k = 0; k < 3; ++k) channels[size_t(k)].push_back(r->rgb[size_t(k)]);
+        }
+    std::array<int, 3> m{};
+    for (int k = 0; k < 3; ++k) {
+      std::vector<uint8_t>& ch = channels[size_t(k)];
+      std::nth_element(ch.begin(), ch.begin() + ptrdiff_t(ch.size() / 2), ch.end());
+      m[size_t(k)] = ch[ch.size() / 2];
+    }
+    if (WoodColour(m, min_chroma)) changes.push_back(v.voxel);
+  }
+  for (uint32_t voxel : changes) labels->map.Find(voxel)->label = uint16_t(nyu40::kCabinet);
+  labels->refrigerator_colour_voxels = changes.size();
+  SEMVOX_INFO("refrigerator colour: " << changes.size() << " wood-coloured refrigerator voxels relabelled cabinet");
+}
+
 void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, SemanticLabels* labels) {
   const auto t0 = std::chrono::steady_clock::now();
   const VoxelGrid& grid = map.grid;

@@ -4,6 +4,8 @@
 //   SemanticLabels labels;
 //   Status st = SolveSemantic(map, evidence, models.crf, options.crf, &labels);
 #pragma once
+#include <array>
+
 #include "core/status.h"
 #include "core/voxel_grid.h"
 #include "mapping/voxelizer.h"
@@ -34,6 +36,7 @@ struct SemanticLabels {
   size_t wall_margin_voxels = 0;      // ApplyWallMargin: wall voxels of the walls' margin relabelled.
   size_t wall_colour_voxels = 0;      // ApplyWallColour: wall voxels off the walls' colour relabelled.
   std::array<uint8_t, 3> wall_colour{0, 0, 0};  // ApplyWallColour: the walls' colour (per-channel median).
+  size_t refrigerator_colour_voxels = 0;          // ApplyRefrigeratorColour: coloured "refrigerator" voxels relabelled.
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
@@ -77,6 +80,18 @@ void ApplyWallMargin(const VoxelMap& map, const SegmentationResult& segmentation
 // so that an object's colour spreads into the wall band at most `rings` voxels. Completed voxels (never seen, their
 // colour borrowed) neither change nor give their label, and do not count in the walls' colour.
 void ApplyWallColour(const VoxelMap& map, double min_distance, int rings, SemanticLabels* labels);
+
+// Wood's colour: red >= green >= blue, hue (degrees, red 0, yellow 60) within [kWoodHueMinDeg, kWoodHueMaxDeg]
+// (cherry and walnut to pine and oak, and their laminates), chroma (red - blue, 0-255) at least `min_chroma`.
+inline constexpr double kWoodHueMinDeg = 10, kWoodHueMaxDeg = 50;
+bool WoodColour(const std::array<int, 3>& rgb, int min_chroma);
+
+// A refrigerator is no wooden box; one of its shape in wood's colour, a kitchen's pantry unit, a hall's tall
+// cabinet, the cabinet over the refrigerator, is a cabinet. A voxel labelled refrigerator whose colour, the
+// per-channel median over itself and its 26 neighbours labelled refrigerator, is wood's (WoodColour with
+// `min_chroma`) takes the label cabinet. Decided on the labels before this step; completed voxels (never seen,
+// their colour borrowed) neither change nor count.
+void ApplyRefrigeratorColour(const VoxelMap& map, int min_chroma, SemanticLabels* labels);
 
 // Doors and windows of the map's walls (objects/wall_openings.h) relabel the labelled voxels of their pane or
 // closed leaf that came out wall, door or window, and every voxel of an open leaf but floor and ceiling.

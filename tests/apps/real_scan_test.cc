@@ -31,7 +31,9 @@ constexpr double kMinFloorRecall = 0.95;    // Floor band labelled floor; measur
 constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.317 with the walls' colour
                                             // (2026-12-06), 0.354 with the walls' margin
                                             // (2026-12-06), 0.375 before, 0.431 (0.546).
-constexpr double kMinMeanBoxRecall = 0.25;  // Mean over boxes holding voxels; measured 0.402 with the walls' colour
+constexpr double kMinMeanBoxRecall = 0.30;  // Mean over boxes holding voxels; measured 0.464 with refrigerators by
+                                            // their colour (semantic.refrigerator_wood_chroma, 2026-12-07; 0.318 with the
+                                            // segment model of seeds 110-209), 0.402 with the walls' colour
                                             // (semantic.wall_colour, 2026-12-06; 0.286 with the segment model of seeds
                                             // 110-209), 0.376 with classes no higher than
                                             // their objects stand (semantic.high_tops, 2026-12-06), 0.359 with sofa backs beside their
@@ -56,7 +58,9 @@ constexpr double kMaxBathroomArea = 6.0;    // The room holding the toilet box's
 // Per-class recall floors (gt.json class names; voxels pooled over the class's boxes).
 const std::map<std::string, double> kMinClassRecall = {
     {"bed", 0.60},          // measured 0.794 (0.537)
-    {"cabinet", 0.03},      // measured 0.103 with the segment model retrained on varied toilets (2026-12-06), 0.065 with the
+    {"cabinet", 0.10},      // measured 0.300 with refrigerators by their colour (2026-12-07: the wooden tall cabinet
+                            // and the cabinet over the refrigerator; 0.144 with the segment model of seeds 110-209),
+                            // 0.115 with the walls' colour, 0.103 with the segment model retrained on varied toilets (2026-12-06), 0.065 with the
                             // one of earlier that day (the kitchen's base cabinets), 0.002 before
     {"counter", 0.15},      // measured 0.226 with the segment model retrained on varied toilets (2026-12-06; 0.340 with the
                             // same code trained on seeds 110-209), 0.395 with the one before, 0.432 (0.216)
@@ -68,7 +72,8 @@ const std::map<std::string, double> kMinClassRecall = {
                             // (semantic.wall_openings), 0.163 without
     {"garbagebin", 0.0},    // measured 0.173 with the segment model retrained on varied toilets (2026-12-06; 0 with the same
                             // code trained on seeds 110-209), 0.022 before
-    {"refrigerator", 0.10}, // measured 0.677 since classes stand no higher than their objects (2026-12-06: the
+    {"refrigerator", 0.10}, // measured 0.610 with refrigerators by their colour (2026-12-07), 0.677 since classes
+                            // stand no higher than their objects (2026-12-06: the
                             // refrigerator's front, top surface 1.7 m, was counter; 0.029 with the segment model of
                             // seeds 110-209, which gives it door), 0.165 with the segment model retrained on varied toilets (2026-12-06; 0.083 with the
                             // same code trained on seeds 110-209: the fridge's segments flip between refrigerator,
@@ -166,6 +171,9 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   // Window frames, door leaves, the toilet's back and the wall units' fronts in the wall band take their objects'
   // labels by colour (semantic.wall_colour; measured 2,594 voxels, walls' colour (138, 126, 102)).
   EXPECT_GE(summary["semantic"]["wall_colour"]["relabelled_voxels"].get<int>(), 500);
+  // A wooden tall cabinet, shaped like a refrigerator and called one, and the wooden cabinet over the refrigerator
+  // are cabinets by their colour (semantic.refrigerator_wood_chroma; measured 1,815 voxels).
+  EXPECT_GE(summary["semantic"]["refrigerator_colour"]["relabelled_voxels"].get<int>(), 500);
   const auto& room_views = summary["semantic"]["room_view_appearance"];
   EXPECT_GE(room_views["unfamiliar_views"].get<int>(), int(0.8 * room_views["views"].get<int>()));
   EXPECT_LE(room_views["mean_weight"].get<double>(), 0.3);

@@ -3,6 +3,7 @@
 // around them, stay floor. ApplyWallMargin: wall voxels in the cell the segmentation adds around the walls take
 // the label of the object beside them; a bare wall's margin and the wall itself stay wall. ApplyWallColour: wall
 // voxels off the walls' colour take the label of the object beside them whose colour is closer.
+// ApplyRefrigeratorColour: "refrigerator" voxels in wood's colour are a cabinet; a white or a blue one stays.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -207,6 +208,63 @@ TEST(WallColour, RingsAndDistanceDecide) {
   ColourScene none = MakeColourScene();
   ApplyWallColour(none.map, 40, 0, &none.labels);
   EXPECT_EQ(none.labels.wall_colour_voxels, 0u);
+}
+
+// A white refrigerator (x = 1..3, y = 1..3) under a warm light, with one wood-coloured speck, a wooden tall
+// cabinet (x = 6..8) the classifier also took for a refrigerator, and a blue refrigerator (x = 6..8, y = 5..7),
+// each 3 x 3 x 6 voxels.
+constexpr std::array<uint8_t, 3> kWarmWhite{192, 181, 158}, kOak{201, 135, 66};  // Hue 41 and 31, chroma 34 and 135.
+constexpr std::array<uint8_t, 3> kBlue{90, 130, 210};
+
+ColourScene MakeFridgeScene() {
+  ColourScene s;
+  s.map.grid = VoxelGrid(0.05, {32763, 32763, 32766}, {10, 10, 10});
+  for (int x = 1; x <= 8; ++x) {
+    if (x == 4 || x == 5) continue;
+    for (int y = 1; y <= 3; ++y)
+      for (int z = 2; z < 8; ++z) {
+        const bool speck = x == 2 && y == 2 && z == 4;
+        const bool unseen = x == 7 && y == 2 && z == 7;  // Completed, never seen.
+        s.Put(x, y, z, nyu40::kRefrigerator, x >= 6 || speck ? kOak : kWarmWhite);
+        if (unseen) s.labels.map.occupied.back().completed = 1;
+      }
+  }
+  for (int x = 6; x <= 8; ++x)
+    for (int y = 5; y <= 7; ++y)
+      for (int z = 2; z < 8; ++z) s.Put(x, y, z, nyu40::kRefrigerator, kBlue);
+  s.Put(2, 5, 4, nyu40::kTable, kOak);  // Other labels are left alone.
+  s.Sort();
+  return s;
+}
+
+TEST(RefrigeratorColour, AWoodColouredRefrigeratorIsACabinet) {
+  ColourScene s = MakeFridgeScene();
+  ApplyRefrigeratorColour(s.map, 60, &s.labels);
+  for (int y = 1; y <= 3; ++y)
+    for (int z = 2; z < 8; ++z) {
+      EXPECT_EQ(s.At(2, y, z), nyu40::kRefrigerator) << "the white refrigerator stays, its speck too, y " << y << " z " << z;
+      if (!(y == 2 && z == 7)) {
+        EXPECT_EQ(s.At(7, y, z), nyu40::kCabinet) << "the wooden one is a cabinet, y " << y << " z " << z;
+      }
+    }
+  EXPECT_EQ(s.At(7, 2, 7), nyu40::kRefrigerator) << "a completed voxel is left alone";
+  EXPECT_EQ(s.At(7, 6, 4), nyu40::kRefrigerator) << "a blue refrigerator is a refrigerator";
+  EXPECT_EQ(s.At(2, 5, 4), nyu40::kTable);
+  EXPECT_EQ(s.labels.refrigerator_colour_voxels, 53u);
+}
+
+TEST(RefrigeratorColour, TheChromaAskedForDecides) {
+  ColourScene strict = MakeFridgeScene();
+  ApplyRefrigeratorColour(strict.map, 136, &strict.labels);
+  EXPECT_EQ(strict.labels.refrigerator_colour_voxels, 0u) << "oak's chroma is 135";
+  ColourScene loose = MakeFridgeScene();
+  ApplyRefrigeratorColour(loose.map, 34, &loose.labels);
+  EXPECT_EQ(loose.labels.refrigerator_colour_voxels, 107u) << "warm white's chroma is 34: both are cabinets, blue is no wood";
+  EXPECT_TRUE(WoodColour({201, 135, 66}, 60));
+  EXPECT_FALSE(WoodColour({90, 130, 210}, 60)) << "blue";
+  EXPECT_FALSE(WoodColour({255, 178, 228}, 60)) << "pink: blue above green";
+  EXPECT_FALSE(WoodColour({220, 60, 50}, 60)) << "red: hue 3.5 degrees";
+  EXPECT_FALSE(WoodColour({200, 200, 80}, 60)) << "yellow: hue 60 degrees";
 }
 
 }  // namespace
