@@ -252,6 +252,8 @@ Result<PipelineResult> RunPipeline(const std::string& input, const PipelineOptio
     if (config.semantic.refrigerator_wood_chroma > 0)
       ApplyRefrigeratorColour(map, config.semantic.refrigerator_wood_chroma, &*r.labels);
     if (config.semantic.wall_openings) ApplyWallOpenings(map, WallOpeningOptions{}, &*r.labels);
+    if (config.semantic.wall_openings && config.semantic.doors_in_doorways)
+      ApplyDoorsInDoorways(map, r.evidence->segmentation.get(), &*r.labels);
     if (config.semantic.wall_margin && r.evidence->segmentation)
       ApplyWallMargin(map, *r.evidence->segmentation, config.semantic.wall_margin_min_neighbours, &*r.labels);
     if (config.semantic.wall_colour)

@@ -89,6 +89,10 @@ struct SemanticStageOptions {
   // (hue 10-50 degrees) with a chroma (red - blue) of refrigerator_wood_chroma or more are a cabinet of its shape,
   // after the items (pipeline/semantic_solve.h, ApplyRefrigeratorColour). 0: off.
   int refrigerator_wood_chroma = 60;
+  // A door's leaf stands in its doorway: after the doors and windows, the door voxels of an object segment far from
+  // every door found take curtain (a thin panel) or cabinet (a tall box) (pipeline/semantic_solve.h,
+  // ApplyDoorsInDoorways).
+  bool doors_in_doorways = true;
   // A counter is a work surface at counter height: an object segment whose top surface lies lower than this
   // (metres above the floor) is no counter, and the segment classifier's counter probability goes to table
   // before the Voxel-CRF (objects/segment_classifier.h, LowCounterToTable). 0: off.
@@ -172,6 +176,11 @@ struct SemanticStageOptions {
                          "neighbours labelled refrigerator) is wood's, red >= green >= blue with a hue of 10-50 degrees "
                          "and a chroma (red - blue) of this or more, is a cabinet of its shape (a wooden pantry unit, "
                          "tall cabinet or the cabinet over the refrigerator): refrigerators are no wooden boxes; 0: off"),
+            OptionSwitch(&O::doors_in_doorways, "doors_in_doorways",
+                         "after the doors and windows, when doors were found in the walls, the voxels labelled door of an "
+                         "object segment that lie farther from every door found than its width + 0.3 m are no leaf: a "
+                         "segment up to 0.35 m thick (a panel hung along a wall) takes curtain, a thicker one (a tall "
+                         "box) cabinet; off: the labels stay"),
             OptionNumber(&O::counter_min_top_m, "counter_min_top_m", 0, 3, "metres",
                          "an object segment whose top surface lies lower than this above the floor is no counter: the "
                          "segment classifier's counter probability goes to table before the Voxel-CRF (kitchen counters "

@@ -252,6 +252,51 @@ void ApplyRefrigeratorColour(const VoxelMap& map, int min_chroma, SemanticLabels
   SEMVOX_INFO("refrigerator colour: " << changes.size() << " wood-coloured refrigerator voxels relabelled cabinet");
 }
 
+void ApplyDoorsInDoorways(const VoxelMap& map, const SegmentationResult* segmentation, SemanticLabels* labels) {
+  labels->doorless_segments = 0;
+  labels->doorless_voxels = 0;
+  const VoxelGrid& grid = map.grid;
+  const double res = grid.resolution();
+  std::vector<const WallOpening*> doors;
+  for (const WallOpening& o : labels->openings)
+    if (o.nyu40 == nyu40::kDoor) doors.push_back(&o);
+  if (doors.empty() || !segmentation) return;
+  // Horizontal distance (metres) from column (x, y) to a doorway's span on its wall's face.
+  auto distance = [&](const WallOpening& o, int x, int y) {
+    const int along = o.axis == 0 ? x : y, across = o.axis == 0 ? y : x;
+    const int off_along = along < o.along0 ? o.along0 - along : along > o.along1 ? along - o.along1 : 0;
+    return res * std::hypot(double(off_along), double(across - o.line));
+  };
+  std::vector<uint32_t> door_voxels;
+  for (const ObjectSegment& s : segmentation->segments) {
+    door_voxels.clear();
+    for (uint32_t v : s.voxels) {
+      const SemanticVoxelRecord* r = labels->map.Find(v);
+      if (r && r->label == nyu40::kDoor) door_voxels.push_back(v);
+    }
+    if (int(door_voxels.size()) < kDoorlessMinVoxels) continue;
+    bool in_doorway = false;
+    for (const WallOpening* o : doors) {
+      const double reach = o->width_m(res) + kDoorwayReachMarginM;
+      for (uint32_t v : door_voxels) {
+        const auto c = grid.Cell(v);
+        if (distance(*o, c[0], c[1]) <= reach) {
+          in_doorway = true;
+          break;
+        }
+      }
+      if (in_doorway) break;
+    }
+    if (in_doorway) continue;
+    const int label = s.features[kSegThickness] <= kDoorlessThinMaxM ? nyu40::kCurtain : nyu40::kCabinet;
+    for (uint32_t v : door_voxels) labels->map.Find(v)->label = uint16_t(label);
+    ++labels->doorless_segments;
+    labels->doorless_voxels += door_voxels.size();
+  }
+  SEMVOX_INFO("doors in doorways: " << labels->doorless_voxels << " door voxels of " << labels->doorless_segments
+                                    << " segments away from every doorway relabelled");
+}
+
 void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, SemanticLabels* labels) {
   const auto t0 = std::chrono::steady_clock::now();
   const VoxelGrid& grid = map.grid;

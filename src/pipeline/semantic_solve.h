@@ -37,6 +37,8 @@ struct SemanticLabels {
   size_t wall_colour_voxels = 0;      // ApplyWallColour: wall voxels off the walls' colour relabelled.
   std::array<uint8_t, 3> wall_colour{0, 0, 0};  // ApplyWallColour: the walls' colour (per-channel median).
   size_t refrigerator_colour_voxels = 0;          // ApplyRefrigeratorColour: coloured "refrigerator" voxels relabelled.
+  int doorless_segments = 0;                      // ApplyDoorsInDoorways: segments whose door voxels were relabelled,
+  size_t doorless_voxels = 0;                     // and those voxels.
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
@@ -92,6 +94,16 @@ bool WoodColour(const std::array<int, 3>& rgb, int min_chroma);
 // `min_chroma`) takes the label cabinet. Decided on the labels before this step; completed voxels (never seen,
 // their colour borrowed) neither change nor count.
 void ApplyRefrigeratorColour(const VoxelMap& map, int min_chroma, SemanticLabels* labels);
+
+// A door's leaf stands in its doorway, or open beside it within its own width. After ApplyWallOpenings, when
+// it found at least one door: the voxels labelled door of an object segment (at least kDoorlessMinVoxels of
+// them) that all lie farther from every door found than that door's width + kDoorwayReachMarginM (horizontally,
+// from the doorway's span on the wall's face) are no leaf: a segment no thicker than kDoorlessThinMaxM (a panel
+// hung along a wall) takes the label curtain, a thicker one (a tall box) cabinet. Without doors found, or
+// without the segmentation, nothing changes: a doorway the search missed would lose its leaf.
+inline constexpr int kDoorlessMinVoxels = 20;
+inline constexpr double kDoorwayReachMarginM = 0.3, kDoorlessThinMaxM = 0.35;
+void ApplyDoorsInDoorways(const VoxelMap& map, const SegmentationResult* segmentation, SemanticLabels* labels);
 
 // Doors and windows of the map's walls (objects/wall_openings.h) relabel the labelled voxels of their pane or
 // closed leaf that came out wall, door or window, and every voxel of an open leaf but floor and ceiling.

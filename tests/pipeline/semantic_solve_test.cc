@@ -4,6 +4,7 @@
 // the label of the object beside them; a bare wall's margin and the wall itself stay wall. ApplyWallColour: wall
 // voxels off the walls' colour take the label of the object beside them whose colour is closer.
 // ApplyRefrigeratorColour: "refrigerator" voxels in wood's colour are a cabinet; a white or a blue one stays.
+// ApplyDoorsInDoorways: door voxels far from every door found are a curtain (thin) or a cabinet (thick).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -265,6 +266,72 @@ TEST(RefrigeratorColour, TheChromaAskedForDecides) {
   EXPECT_FALSE(WoodColour({255, 178, 228}, 60)) << "pink: blue above green";
   EXPECT_FALSE(WoodColour({220, 60, 50}, 60)) << "red: hue 3.5 degrees";
   EXPECT_FALSE(WoodColour({200, 200, 80}, 60)) << "yellow: hue 60 degrees";
+}
+
+// A 2 x 2 m room (40 x 40 cells of 5 cm) with a door found in the wall y = 0, x = 0..15 (0.8 m wide), and four
+// object segments labelled door: a leaf open beside the doorway (A), a thin panel 1.8 m away (B, one of its
+// voxels labelled wall), a thick box 1.9 m away (C), and a small thing far away (D, 10 voxels).
+struct DoorScene : FloorScene {
+  SegmentationResult seg;
+  void Segment(int x0, int x1, int y0, int y1, int z0, int z1, double thickness_m) {
+    ObjectSegment o;
+    for (int z = z0; z <= z1; ++z)
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) {
+          Add(x, y, z, nyu40::kDoor);
+          o.voxels.push_back(uint32_t(map.grid.Index(x, y, z)));
+        }
+    std::sort(o.voxels.begin(), o.voxels.end());
+    o.features[kSegThickness] = float(thickness_m);
+    seg.segments.push_back(o);
+  }
+};
+
+DoorScene MakeDoorScene() {
+  DoorScene s;
+  s.map.grid = VoxelGrid(0.05, {32763, 32763, 32766}, {40, 40, 10});
+  WallOpening door;
+  door.nyu40 = nyu40::kDoor, door.axis = 0, door.facing = 1, door.line = 0, door.along0 = 0, door.along1 = 15;
+  door.z0 = 1, door.z1 = 9;
+  s.labels.openings.push_back(door);
+  s.Segment(16, 16, 1, 15, 2, 3, 0.05);  // A: 30 voxels up to 0.75 m from the doorway's end.
+  s.Segment(35, 35, 30, 37, 2, 6, 0.1);  // B: 40 voxels.
+  s.Segment(30, 33, 35, 38, 2, 4, 0.4);  // C: 48 voxels.
+  s.Segment(5, 6, 38, 38, 2, 6, 0.1);    // D: 10 voxels.
+  s.Sort();
+  s.labels.map.Find(uint32_t(s.map.grid.Index(35, 33, 4)))->label = nyu40::kWall;
+  return s;
+}
+
+TEST(DoorsInDoorways, DoorVoxelsAwayFromEveryDoorwayAreCurtainOrCabinet) {
+  DoorScene s = MakeDoorScene();
+  ApplyDoorsInDoorways(s.map, &s.seg, &s.labels);
+  EXPECT_EQ(s.At(16, 15, 3), nyu40::kDoor) << "a leaf open beside its doorway stays door";
+  EXPECT_EQ(s.At(35, 30, 2), nyu40::kCurtain) << "a thin panel far from the doorway";
+  EXPECT_EQ(s.At(35, 33, 4), nyu40::kWall) << "only the door voxels change";
+  EXPECT_EQ(s.At(31, 36, 3), nyu40::kCabinet) << "a thick box far from the doorway";
+  EXPECT_EQ(s.At(5, 38, 4), nyu40::kDoor) << "fewer than kDoorlessMinVoxels door voxels";
+  EXPECT_EQ(s.labels.doorless_segments, 2);
+  EXPECT_EQ(s.labels.doorless_voxels, 39u + 48u);
+}
+
+TEST(DoorsInDoorways, WithoutADoorFoundOrTheSegmentationNothingChanges) {
+  DoorScene none = MakeDoorScene();
+  none.labels.openings.clear();
+  ApplyDoorsInDoorways(none.map, &none.seg, &none.labels);
+  EXPECT_EQ(none.labels.doorless_voxels, 0u);
+  EXPECT_EQ(none.At(35, 30, 2), nyu40::kDoor);
+  DoorScene window = MakeDoorScene();
+  window.labels.openings[0].nyu40 = nyu40::kWindow;
+  ApplyDoorsInDoorways(window.map, &window.seg, &window.labels);
+  EXPECT_EQ(window.labels.doorless_voxels, 0u) << "a window is no doorway";
+  DoorScene unsegmented = MakeDoorScene();
+  ApplyDoorsInDoorways(unsegmented.map, nullptr, &unsegmented.labels);
+  EXPECT_EQ(unsegmented.labels.doorless_voxels, 0u);
+  DoorScene wide = MakeDoorScene();
+  wide.labels.openings[0].along1 = 39;  // A doorway along the whole wall: B and C lie within its width + 0.3 m.
+  ApplyDoorsInDoorways(wide.map, &wide.seg, &wide.labels);
+  EXPECT_EQ(wide.labels.doorless_voxels, 0u);
 }
 
 }  // namespace
