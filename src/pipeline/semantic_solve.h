@@ -36,9 +36,9 @@ struct SemanticLabels {
   size_t wall_margin_voxels = 0;      // ApplyWallMargin: wall voxels of the walls' margin relabelled.
   size_t wall_colour_voxels = 0;      // ApplyWallColour: wall voxels off the walls' colour relabelled.
   std::array<uint8_t, 3> wall_colour{0, 0, 0};  // ApplyWallColour: the walls' colour (per-channel median).
-  size_t refrigerator_colour_voxels = 0;          // ApplyRefrigeratorColour: coloured "refrigerator" voxels relabelled.
-  int doorless_segments = 0;                      // ApplyDoorsInDoorways: segments whose door voxels were relabelled,
-  size_t doorless_voxels = 0;                     // and those voxels.
+  size_t refrigerator_colour_voxels = 0;  // ApplyRefrigeratorColour: wood-coloured refrigerator voxels relabelled.
+  int doorless_segments = 0;              // ApplyDoorsInDoorways: segments whose door voxels were relabelled,
+  size_t doorless_voxels = 0;             // and those voxels.
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
