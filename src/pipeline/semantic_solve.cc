@@ -99,18 +99,36 @@ void ApplyItemLabels(const VoxelMap& map, const SemanticEvidence& evidence, cons
 
 namespace {
 
-// The labels of the labelled 26 neighbours of cell c that `usable` accepts (ApplyFloorSurface, ApplyWallMargin).
-template <class Usable>
-std::vector<int> NeighbourLabels(const VoxelGrid& grid, const SemanticMap& map, const std::array<int, 3>& c, const Usable& usable) {
-  std::vector<int> around;
+// Calls visit(record) for each labelled voxel among the 26 neighbours of cell c.
+template <class Visit>
+void ForEachNeighbour(const VoxelGrid& grid, const SemanticMap& map, const std::array<int, 3>& c, const Visit& visit) {
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         if ((dx | dy | dz) == 0 || !grid.Contains(c[0] + dx, c[1] + dy, c[2] + dz)) continue;
-        const SemanticVoxelRecord* r = map.Find(uint32_t(grid.Index(c[0] + dx, c[1] + dy, c[2] + dz)));
-        if (r && usable(int(r->label))) around.push_back(r->label);
+        if (const SemanticVoxelRecord* r = map.Find(uint32_t(grid.Index(c[0] + dx, c[1] + dy, c[2] + dz)))) visit(*r);
       }
+}
+
+// The labels of the labelled 26 neighbours of cell c that `usable` accepts (ApplyFloorSurface, ApplyWallMargin).
+template <class Usable>
+std::vector<int> NeighbourLabels(const VoxelGrid& grid, const SemanticMap& map, const std::array<int, 3>& c, const Usable& usable) {
+  std::vector<int> around;
+  ForEachNeighbour(grid, map, c, [&](const SemanticVoxelRecord& r) {
+    if (usable(int(r.label))) around.push_back(r.label);
+  });
   return around;
+}
+
+// Per-channel median of colours gathered channel by channel (each channel non-empty); reorders them.
+std::array<uint8_t, 3> MedianColour(std::array<std::vector<uint8_t>, 3>* channels) {
+  std::array<uint8_t, 3> m{};
+  for (size_t k = 0; k < 3; ++k) {
+    std::vector<uint8_t>& c = (*channels)[k];
+    std::nth_element(c.begin(), c.begin() + ptrdiff_t(c.size() / 2), c.end());
+    m[k] = c[c.size() / 2];
+  }
+  return m;
 }
 
 }  // namespace
@@ -176,11 +194,7 @@ void ApplyWallColour(const VoxelMap& map, double min_distance, int rings, Semant
     if (v.label == nyu40::kWall && coloured(v))
       for (int k = 0; k < 3; ++k) channels[size_t(k)].push_back(v.rgb[size_t(k)]);
   if (channels[0].empty()) return;
-  for (int k = 0; k < 3; ++k) {
-    std::vector<uint8_t>& c = channels[size_t(k)];
-    std::nth_element(c.begin(), c.begin() + ptrdiff_t(c.size() / 2), c.end());
-    labels->wall_colour[size_t(k)] = c[c.size() / 2];
-  }
+  labels->wall_colour = MedianColour(&channels);
   auto distance = [](const std::array<uint8_t, 3>& a, const std::array<uint8_t, 3>& b) {
     double d = 0;
     for (int k = 0; k < 3; ++k) d += double(int(a[size_t(k)]) - int(b[size_t(k)])) * double(int(a[size_t(k)]) - int(b[size_t(k)]));
@@ -196,15 +210,11 @@ void ApplyWallColour(const VoxelMap& map, double min_distance, int rings, Semant
       const auto c = grid.Cell(v.voxel);
       double best = off_wall;
       int label = 0;
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            if ((dx | dy | dz) == 0 || !grid.Contains(c[0] + dx, c[1] + dy, c[2] + dz)) continue;
-            const SemanticVoxelRecord* r = labels->map.Find(uint32_t(grid.Index(c[0] + dx, c[1] + dy, c[2] + dz)));
-            if (!r || !usable(int(r->label)) || !coloured(*r)) continue;
-            const double d = distance(v.rgb, r->rgb);
-            if (d < best || (d == best && label != 0 && int(r->label) < label)) best = d, label = int(r->label);
-          }
+      ForEachNeighbour(grid, labels->map, c, [&](const SemanticVoxelRecord& r) {
+        if (!usable(int(r.label)) || !coloured(r)) return;
+        const double d = distance(v.rgb, r.rgb);
+        if (d < best || (d == best && label != 0 && int(r.label) < label)) best = d, label = int(r.label);
+      });
       if (label != 0) changes.emplace_back(v.voxel, uint16_t(label));
     }
     if (changes.empty()) break;
@@ -229,23 +239,15 @@ void ApplyRefrigeratorColour(const VoxelMap& map, int min_chroma, SemanticLabels
   std::array<std::vector<uint8_t>, 3> channels;
   for (const SemanticVoxelRecord& v : labels->map.occupied) {
     if (!fridge(v)) continue;
-    for (auto& c : channels) c.clear();
-    const auto c = grid.Cell(v.voxel);
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          if (!grid.Contains(c[0] + dx, c[1] + dy, c[2] + dz)) continue;
-          const SemanticVoxelRecord* r = labels->map.Find(uint32_t(grid.Index(c[0] + dx, c[1] + dy, c[2] + dz)));
-          if (!r || !fridge(*r)) continue;
-          for (int k = 0; k < 3; ++k) channels[size_t(k)].push_back(r->rgb[size_t(k)]);
-        }
-    std::array<int, 3> m{};
-    for (int k = 0; k < 3; ++k) {
-      std::vector<uint8_t>& ch = channels[size_t(k)];
-      std::nth_element(ch.begin(), ch.begin() + ptrdiff_t(ch.size() / 2), ch.end());
-      m[size_t(k)] = ch[ch.size() / 2];
-    }
-    if (WoodColour(m, min_chroma)) changes.push_back(v.voxel);
+    auto add = [&](const SemanticVoxelRecord& r) {
+      if (fridge(r))
+        for (size_t k = 0; k < 3; ++k) channels[k].push_back(r.rgb[k]);
+    };
+    for (auto& ch : channels) ch.clear();
+    add(v);
+    ForEachNeighbour(grid, labels->map, grid.Cell(v.voxel), add);
+    const std::array<uint8_t, 3> m = MedianColour(&channels);
+    if (WoodColour({m[0], m[1], m[2]}, min_chroma)) changes.push_back(v.voxel);
   }
   for (uint32_t voxel : changes) labels->map.Find(voxel)->label = uint16_t(nyu40::kCabinet);
   labels->refrigerator_colour_voxels = changes.size();
