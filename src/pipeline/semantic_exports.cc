@@ -108,6 +108,8 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
                                 {"relabelled_voxels", labels.refrigerator_colour_voxels}};
   if (options.wall_openings && options.doors_in_doorways)
     j["doors_in_doorways"] = {{"segments", labels.doorless_segments}, {"relabelled_voxels", labels.doorless_voxels}};
+  if (options.tall_object_walls && evidence.num_segments >= 0)
+    j["tall_object_walls"] = {{"segments", labels.tall_object_wall_segments}, {"relabelled_voxels", labels.tall_object_wall_voxels}};
   if (options.counter_min_top_m > 0 && evidence.num_segments >= 0)
     j["low_counters"] = {{"min_top_m", options.counter_min_top_m}, {"segments", evidence.low_counter_segments},
                          {"voxels", evidence.low_counter_voxels}};

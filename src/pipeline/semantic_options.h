@@ -93,6 +93,10 @@ struct SemanticStageOptions {
   // every door found take curtain (a thin panel) or cabinet (a tall box) (pipeline/semantic_solve.h,
   // ApplyDoorsInDoorways).
   bool doors_in_doorways = true;
+  // Tall furniture is no wall: after the doors and windows, the wall voxels of an object segment whose top surface
+  // lies 1.5 m or more above the floor and 0.3 m or more under the ceiling, and whose most probable class by shape
+  // is an object (probability 0.5 or more), take that class (pipeline/semantic_solve.h, ApplyTallObjectWalls).
+  bool tall_object_walls = true;
   // A counter is a work surface at counter height: an object segment whose top surface lies lower than this
   // (metres above the floor) is no counter, and the segment classifier's counter probability goes to table
   // before the Voxel-CRF (objects/segment_classifier.h, LowCounterToTable). 0: off.
@@ -181,6 +185,11 @@ struct SemanticStageOptions {
                          "object segment that lie farther from every door found than its width + 0.3 m are no leaf: a "
                          "segment up to 0.35 m thick (a panel hung along a wall) takes curtain, a thicker one (a tall "
                          "box) cabinet; off: the labels stay"),
+            OptionSwitch(&O::tall_object_walls, "tall_object_walls",
+                         "after the doors and windows, the voxels labelled wall of an object segment whose top surface "
+                         "lies 1.5 m or more above the floor and 0.3 m or more under the ceiling (or the scan's top), and "
+                         "whose most probable class by shape is an object with a probability of 0.5 or more, take that "
+                         "class: a wardrobe's or tall cabinet's front is no wall; off: the labels stay"),
             OptionNumber(&O::counter_min_top_m, "counter_min_top_m", 0, 3, "metres",
                          "an object segment whose top surface lies lower than this above the floor is no counter: the "
                          "segment classifier's counter probability goes to table before the Voxel-CRF (kitchen counters "

@@ -326,4 +326,35 @@ void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, S
                                 << labels->opening_voxels << " voxels relabelled, " << labels->seconds_openings << " s");
 }
 
+void ApplyTallObjectWalls(const SemanticEvidence& evidence, const VoxelCrfModel& model, SemanticLabels* labels) {
+  labels->tall_object_wall_segments = 0;
+  labels->tall_object_wall_voxels = 0;
+  const SegmentationResult* seg = evidence.segmentation.get();
+  const int K = model.num_classes();
+  if (!seg || K <= 0 || evidence.voxels.segment.size() != evidence.nodes.size() * size_t(K)) return;
+  for (const ObjectSegment& s : seg->segments) {
+    if (s.features[kSegTopSurface] < kTallObjectMinTopM || s.features[kSegCeilingGap] < kTallObjectMinCeilingGapM) continue;
+    // Every node of a segment carries the segment's probabilities (after the pipeline's adjustments).
+    int32_t node = -1;
+    for (uint32_t v : s.voxels)
+      if ((node = evidence.nodes.node_of_voxel[v]) >= 0) break;
+    if (node < 0) continue;
+    const float* p = &evidence.voxels.segment[size_t(node) * size_t(K)];
+    const int k = int(std::max_element(p, p + K) - p);
+    const int id = model.nyu40_of_class[size_t(k)];
+    if (p[k] < kTallObjectMinProbability || id <= 0 || id == nyu40::kWall || id == nyu40::kFloor || id == nyu40::kCeiling ||
+        id == nyu40::kWindow || id == nyu40::kDoor || model.class_names[size_t(k)] == "other")
+      continue;
+    size_t n = 0;
+    for (uint32_t v : s.voxels) {
+      SemanticVoxelRecord* r = labels->map.Find(v);
+      if (r && r->label == nyu40::kWall) r->label = uint16_t(id), ++n;
+    }
+    labels->tall_object_wall_voxels += n;
+    labels->tall_object_wall_segments += n > 0;
+  }
+  SEMVOX_INFO("tall object walls: " << labels->tall_object_wall_voxels << " wall voxels of " << labels->tall_object_wall_segments
+                                    << " tall object segments relabelled");
+}
+
 }  // namespace semvox

@@ -39,6 +39,8 @@ struct SemanticLabels {
   size_t refrigerator_colour_voxels = 0;  // ApplyRefrigeratorColour: wood-coloured refrigerator voxels relabelled.
   int doorless_segments = 0;              // ApplyDoorsInDoorways: segments whose door voxels were relabelled,
   size_t doorless_voxels = 0;             // and those voxels.
+  int tall_object_wall_segments = 0;      // ApplyTallObjectWalls: tall object segments whose wall voxels were relabelled,
+  size_t tall_object_wall_voxels = 0;     // and those voxels.
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
@@ -108,5 +110,18 @@ void ApplyDoorsInDoorways(const VoxelMap& map, const SegmentationResult* segment
 // Doors and windows of the map's walls (objects/wall_openings.h) relabel the labelled voxels of their pane or
 // closed leaf that came out wall, door or window, and every voxel of an open leaf but floor and ceiling.
 void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, SemanticLabels* labels);
+
+// Tall furniture is no wall. Walls are what the object segmentation removed first (wall columns: occupied over
+// most of the band from the floor to the ceiling); an object segment is what remains, and the Voxel-CRF still
+// calls wall the flat front of a wardrobe or tall cabinet standing in it, which the per-view evidence and the
+// planes' cliques read as a wall. After the doors and windows: the voxels labelled wall of an object segment
+// whose top surface (kSegTopSurface) lies at least kTallObjectMinTopM above the floor and at least
+// kTallObjectMinCeilingGapM under the ceiling (or the scan's top; a wall runs up to it), and whose most probable
+// class by shape (the segment term's probabilities, `evidence.voxels.segment`) is an object with a probability of
+// at least kTallObjectMinProbability, take that class's NYU40 id. Objects are any class but wall, floor, ceiling,
+// window, door and "other" (whose NYU40 id is not known yet). Low segments are left alone: the wall under a
+// window joins the furniture in front of it. Without a segment term nothing changes.
+inline constexpr double kTallObjectMinTopM = 1.5, kTallObjectMinCeilingGapM = 0.3, kTallObjectMinProbability = 0.5;
+void ApplyTallObjectWalls(const SemanticEvidence& evidence, const VoxelCrfModel& model, SemanticLabels* labels);
 
 }  // namespace semvox

@@ -28,10 +28,13 @@ namespace {
 // segments, and the voxels holding scan points kept occupied (semantic.keep_scan_points); before that
 // setting in brackets.
 constexpr double kMinFloorRecall = 0.95;    // Floor band labelled floor; measured 0.991 (2026-12-06), 0.978 (0.985) before.
-constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.317 with the walls' colour
+constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.291 with tall furniture no wall
+                                            // (2026-12-07), 0.317 with the walls' colour
                                             // (2026-12-06), 0.354 with the walls' margin
                                             // (2026-12-06), 0.375 before, 0.431 (0.546).
-constexpr double kMinMeanBoxRecall = 0.30;  // Mean over boxes holding voxels; measured 0.490 with doors in their
+constexpr double kMinMeanBoxRecall = 0.30;  // Mean over boxes holding voxels; measured 0.511 with tall furniture no
+                                            // wall (semantic.tall_object_walls, 2026-12-07; 0.339 with the segment model
+                                            // of seeds 110-209), 0.490 with doors in their
                                             // doorways (semantic.doors_in_doorways, 2026-12-07; 0.336 with the segment
                                             // model of seeds 110-209), 0.464 with refrigerators by
                                             // their colour (semantic.refrigerator_wood_chroma, 2026-12-07; 0.318 with the
@@ -60,7 +63,9 @@ constexpr double kMaxBathroomArea = 6.0;    // The room holding the toilet box's
 // Per-class recall floors (gt.json class names; voxels pooled over the class's boxes).
 const std::map<std::string, double> kMinClassRecall = {
     {"bed", 0.60},          // measured 0.794 (0.537)
-    {"cabinet", 0.10},      // measured 0.402 with doors in their doorways (2026-12-07: the tall cabinet called door;
+    {"cabinet", 0.10},      // measured 0.605 with tall furniture no wall (2026-12-07: the corner wardrobe's front;
+                            // 0.253 with the segment model of seeds 110-209, which calls it otherfurniture), 0.402 with
+                            // doors in their doorways (2026-12-07: the tall cabinet called door;
                             // 0.237 with the segment model of seeds 110-209), 0.300 with refrigerators by their colour (2026-12-07: the wooden tall cabinet
                             // and the cabinet over the refrigerator; 0.144 with the segment model of seeds 110-209),
                             // 0.115 with the walls' colour, 0.103 with the segment model retrained on varied toilets (2026-12-06), 0.065 with the
@@ -183,6 +188,9 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   // The tall cabinet in the bedroom corner and a panel of the drawn curtain, called door by their shape, stand far
   // from both doors found in the walls (semantic.doors_in_doorways; measured 6 segments, 2,915 voxels).
   EXPECT_GE(summary["semantic"]["doors_in_doorways"]["relabelled_voxels"].get<int>(), 1000);
+  // The corner wardrobe's front (top 2.3 m), in object segments the shape classifier calls cabinet, came out wall
+  // from the Voxel-CRF (semantic.tall_object_walls; measured 4 segments, 1,924 voxels).
+  EXPECT_GE(summary["semantic"]["tall_object_walls"]["relabelled_voxels"].get<int>(), 1000);
   const auto& room_views = summary["semantic"]["room_view_appearance"];
   EXPECT_GE(room_views["unfamiliar_views"].get<int>(), int(0.8 * room_views["views"].get<int>()));
   EXPECT_LE(room_views["mean_weight"].get<double>(), 0.3);

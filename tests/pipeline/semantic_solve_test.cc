@@ -5,10 +5,13 @@
 // voxels off the walls' colour take the label of the object beside them whose colour is closer.
 // ApplyRefrigeratorColour: "refrigerator" voxels in wood's colour are a cabinet; a white or a blue one stays.
 // ApplyDoorsInDoorways: door voxels far from every door found are a curtain (thin) or a cabinet (thick).
+// ApplyTallObjectWalls: the wall voxels of a tall object segment clear of the ceiling take its class by shape;
+// a low segment's, one reaching the ceiling, one its shape calls wall or calls an object unsurely, stay wall.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
+#include <memory>
 
 #include "core/labels.h"
 #include "objects/object_segments.h"
@@ -332,6 +335,83 @@ TEST(DoorsInDoorways, WithoutADoorFoundOrTheSegmentationNothingChanges) {
   wide.labels.openings[0].along1 = 39;  // A doorway along the whole wall: B and C lie within its width + 0.3 m.
   ApplyDoorsInDoorways(wide.map, &wide.seg, &wide.labels);
   EXPECT_EQ(wide.labels.doorless_voxels, 0u);
+}
+
+// A 2 x 2 x 2.5 m room (40 x 40 x 50 cells of 5 cm, floor at z = 0, no ceiling found: the scan's top is 2.5 m)
+// with five object segments, each a front of 2 x 1 columns whose voxels came out wall and a top voxel its own
+// class: a wardrobe (top 2.0 m, cabinet 0.7), a low cabinet under a window (top 0.9 m, cabinet 0.7), a
+// cupboard up to the scan's top (2.35 m, cabinet 0.7), a segment shaped like a wall (top 2.0 m, wall 0.7) and a
+// tall shelf the shape classifier is unsure of (top 2.0 m, bookshelf 0.4).
+struct TallScene : FloorScene {
+  std::shared_ptr<SegmentationResult> seg = std::make_shared<SegmentationResult>();
+  SemanticEvidence evidence;
+  VoxelCrfModel model = VoxelCrfModel::Default({nyu40::kWall, nyu40::kCabinet, nyu40::kBookshelf, nyu40::kFloor},
+                                               {"wall", "cabinet", "bookshelf", "floor"});
+  std::vector<std::array<float, 4>> probabilities;
+  void Segment(int x, int y, int top_cell, double top_m, double ceiling_gap_m, std::array<float, 4> p, int top_label) {
+    ObjectSegment o;
+    for (int z = 2; z <= top_cell; ++z)
+      for (int dx = 0; dx < 2; ++dx) {
+        Add(x + dx, y, z, z == top_cell ? top_label : nyu40::kWall);
+        o.voxels.push_back(uint32_t(map.grid.Index(x + dx, y, z)));
+      }
+    std::sort(o.voxels.begin(), o.voxels.end());
+    o.features[kSegTopSurface] = float(top_m);
+    o.features[kSegCeilingGap] = float(ceiling_gap_m);
+    seg->segments.push_back(o);
+    probabilities.push_back(p);
+  }
+  // The evidence as SemanticEvidenceBuilder::Finish leaves it: one CRF node per segment voxel, each carrying
+  // its segment's probabilities.
+  void Finish() {
+    Sort();
+    evidence.nodes.node_of_voxel.assign(map.grid.size(), -1);
+    for (size_t i = 0; i < seg->segments.size(); ++i)
+      for (uint32_t v : seg->segments[i].voxels) {
+        evidence.nodes.node_of_voxel[v] = int32_t(evidence.nodes.voxel.size());
+        evidence.nodes.voxel.push_back(v);
+        evidence.voxels.segment.insert(evidence.voxels.segment.end(), probabilities[i].begin(), probabilities[i].end());
+      }
+    evidence.segmentation = seg;
+  }
+};
+
+TallScene MakeTallScene() {
+  TallScene s;
+  s.map.grid = VoxelGrid(0.05, {32763, 32763, 32766}, {40, 40, 50});
+  s.Segment(2, 5, 40, 2.0, 0.5, {0.1f, 0.7f, 0.1f, 0.1f}, nyu40::kCabinet);   // Wardrobe.
+  s.Segment(10, 5, 18, 0.9, 1.6, {0.1f, 0.7f, 0.1f, 0.1f}, nyu40::kCabinet);  // Low cabinet.
+  s.Segment(18, 5, 47, 2.35, 0.15, {0.1f, 0.7f, 0.1f, 0.1f}, nyu40::kCabinet); // Up to the scan's top.
+  s.Segment(26, 5, 40, 2.0, 0.5, {0.7f, 0.1f, 0.1f, 0.1f}, nyu40::kWall);     // Shaped like a wall.
+  s.Segment(34, 5, 40, 2.0, 0.5, {0.2f, 0.3f, 0.4f, 0.1f}, nyu40::kBookshelf); // Unsure.
+  s.Finish();
+  return s;
+}
+
+TEST(TallObjectWalls, AWardrobesFrontIsNoWall) {
+  TallScene s = MakeTallScene();
+  ApplyTallObjectWalls(s.evidence, s.model, &s.labels);
+  EXPECT_EQ(s.At(2, 5, 20), nyu40::kCabinet) << "the wardrobe's front";
+  EXPECT_EQ(s.At(3, 5, 2), nyu40::kCabinet);
+  EXPECT_EQ(s.At(11, 5, 10), nyu40::kWall) << "a low segment: the wall under a window";
+  EXPECT_EQ(s.At(18, 5, 20), nyu40::kWall) << "a segment up to the scan's top may be a wall";
+  EXPECT_EQ(s.At(26, 5, 20), nyu40::kWall) << "a segment shaped like a wall";
+  EXPECT_EQ(s.At(34, 5, 20), nyu40::kWall) << "a class under kTallObjectMinProbability";
+  EXPECT_EQ(s.At(34, 5, 40), nyu40::kBookshelf) << "labels other than wall never change";
+  EXPECT_EQ(s.labels.tall_object_wall_segments, 1);
+  EXPECT_EQ(s.labels.tall_object_wall_voxels, 2u * 38u);
+}
+
+TEST(TallObjectWalls, WithoutASegmentTermNothingChanges) {
+  TallScene none = MakeTallScene();
+  none.evidence.voxels.segment.clear();
+  ApplyTallObjectWalls(none.evidence, none.model, &none.labels);
+  EXPECT_EQ(none.labels.tall_object_wall_voxels, 0u);
+  EXPECT_EQ(none.At(2, 5, 20), nyu40::kWall);
+  TallScene unsegmented = MakeTallScene();
+  unsegmented.evidence.segmentation.reset();
+  ApplyTallObjectWalls(unsegmented.evidence, unsegmented.model, &unsegmented.labels);
+  EXPECT_EQ(unsegmented.labels.tall_object_wall_voxels, 0u);
 }
 
 }  // namespace
