@@ -110,6 +110,8 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
     j["doors_in_doorways"] = {{"segments", labels.doorless_segments}, {"relabelled_voxels", labels.doorless_voxels}};
   if (options.tall_object_walls && evidence.num_segments >= 0)
     j["tall_object_walls"] = {{"segments", labels.tall_object_wall_segments}, {"relabelled_voxels", labels.tall_object_wall_voxels}};
+  if (options.wooden_wall_units)
+    j["wooden_wall_units"] = {{"components", labels.wall_unit_components}, {"relabelled_voxels", labels.wall_unit_voxels}};
   if (options.counter_min_top_m > 0 && evidence.num_segments >= 0)
     j["low_counters"] = {{"min_top_m", options.counter_min_top_m}, {"segments", evidence.low_counter_segments},
                          {"voxels", evidence.low_counter_voxels}};

@@ -97,6 +97,10 @@ struct SemanticStageOptions {
   // lies 1.5 m or more above the floor and 0.3 m or more under the ceiling, and whose most probable class by shape
   // is an object (probability 0.5 or more), take that class (pipeline/semantic_solve.h, ApplyTallObjectWalls).
   bool tall_object_walls = true;
+  // Wooden wall units are cabinets: after the tall objects, a hung part of the wall labels (bottom 1.0 m or more above
+  // the floor, at most 1.3 m tall, 50 voxels or more) in wood's colour and another colour than the wall around it,
+  // on no door's or window's span, is a cabinet (pipeline/semantic_solve.h, ApplyWoodenWallUnits).
+  bool wooden_wall_units = true;
   // A counter is a work surface at counter height: an object segment whose top surface lies lower than this
   // (metres above the floor) is no counter, and the segment classifier's counter probability goes to table
   // before the Voxel-CRF (objects/segment_classifier.h, LowCounterToTable). 0: off.
@@ -190,6 +194,11 @@ struct SemanticStageOptions {
                          "lies 1.5 m or more above the floor and 0.3 m or more under the ceiling (or the scan's top), and "
                          "whose most probable class by shape is an object with a probability of 0.5 or more, take that "
                          "class: a wardrobe's or tall cabinet's front is no wall; off: the labels stay"),
+            OptionSwitch(&O::wooden_wall_units, "wooden_wall_units",
+                         "after the tall objects, a part of the voxels labelled wall in wood's colour (hue 10-50 degrees, "
+                         "chroma 60 or more) that hangs on the wall (its bottom 1.0 m or more above the floor, at most "
+                         "1.3 m tall, 50 voxels or more), lies on no door's or window's span and differs from the wall "
+                         "around it by 30 or more (RGB) is a cabinet: wooden wall units; off: the labels stay"),
             OptionNumber(&O::counter_min_top_m, "counter_min_top_m", 0, 3, "metres",
                          "an object segment whose top surface lies lower than this above the floor is no counter: the "
                          "segment classifier's counter probability goes to table before the Voxel-CRF (kitchen counters "

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <unordered_set>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include <tbb/parallel_for.h>
 
@@ -355,6 +357,91 @@ void ApplyTallObjectWalls(const SemanticEvidence& evidence, const VoxelCrfModel&
   }
   SEMVOX_INFO("tall object walls: " << labels->tall_object_wall_voxels << " wall voxels of " << labels->tall_object_wall_segments
                                     << " tall object segments relabelled");
+}
+
+void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels) {
+  labels->wall_unit_components = 0;
+  labels->wall_unit_voxels = 0;
+  const VoxelGrid& grid = map.grid;
+  const double res = grid.resolution();
+  auto wall = [](const SemanticVoxelRecord& v) { return v.label == nyu40::kWall && v.completed == 0; };
+  // Wall voxels in wood's colour: the per-channel median over the voxel and its 26 neighbours labelled wall.
+  std::unordered_set<uint32_t> wood;
+  std::array<std::vector<uint8_t>, 3> channels;
+  for (const SemanticVoxelRecord& v : labels->map.occupied) {
+    if (!wall(v)) continue;
+    for (auto& ch : channels) ch.clear();
+    auto add = [&](const SemanticVoxelRecord& r) {
+      if (wall(r))
+        for (size_t k = 0; k < 3; ++k) channels[k].push_back(r.rgb[k]);
+    };
+    add(v);
+    ForEachNeighbour(grid, labels->map, grid.Cell(v.voxel), add);
+    const std::array<uint8_t, 3> m = MedianColour(&channels);
+    if (WoodColour({m[0], m[1], m[2]}, kWallUnitWoodChroma)) wood.insert(v.voxel);
+  }
+  // Whether cell c lies on a door's or window's span (its frame), within kWallUnitOpeningMarginCells, and two cells
+  // more across the wall (a fused cloud's wall band is up to four cells thick).
+  auto frames_opening = [&](const std::array<int, 3>& c) {
+    constexpr int m = kWallUnitOpeningMarginCells;
+    for (const WallOpening& o : labels->openings) {
+      const int along = o.axis == 0 ? c[0] : c[1], across = o.axis == 0 ? c[1] : c[0];
+      if (along >= o.along0 - m && along <= o.along1 + m && std::abs(across - o.line) <= m + 2 && c[2] >= o.z0 - m && c[2] <= o.z1 + m)
+        return true;
+    }
+    return false;
+  };
+  std::unordered_set<uint32_t> done;
+  std::vector<uint32_t> changes;
+  for (const SemanticVoxelRecord& v0 : labels->map.occupied) {
+    if (!wood.count(v0.voxel) || !done.insert(v0.voxel).second) continue;
+    // A 26-connected component of wood-coloured wall voxels.
+    std::vector<uint32_t> comp{v0.voxel};
+    for (size_t i = 0; i < comp.size(); ++i)
+      ForEachNeighbour(grid, labels->map, grid.Cell(comp[i]), [&](const SemanticVoxelRecord& r) {
+        if (wood.count(r.voxel) && done.insert(r.voxel).second) comp.push_back(r.voxel);
+      });
+    if (int(comp.size()) < kWallUnitMinVoxels) continue;
+    int zlo = std::numeric_limits<int>::max(), zhi = std::numeric_limits<int>::min();
+    bool framing = false;
+    for (uint32_t u : comp) {
+      const auto c = grid.Cell(u);
+      zlo = std::min(zlo, c[2]), zhi = std::max(zhi, c[2]);
+      framing = framing || frames_opening(c);
+    }
+    // Hung on the wall, no taller than a wall unit, and no door's or window's frame.
+    const double bottom = grid.CellCenter(0, 0, zlo).z() - map.floor_z, height = (zhi - zlo + 1) * res;
+    if (bottom < kWallUnitMinBottomM || height > kWallUnitMaxHeightM || framing) continue;
+    // Another colour than the wall around it (the wall voxels not in wood's colour within two cells): a wall painted
+    // in a wood tone, its light parts split from its shaded ones, is its own colour around them.
+    std::array<std::vector<uint8_t>, 3> in, around;
+    std::unordered_set<uint32_t> seen;
+    for (uint32_t u : comp) {
+      const SemanticVoxelRecord* r = labels->map.Find(u);
+      for (size_t k = 0; k < 3; ++k) in[k].push_back(r->rgb[k]);
+      const auto c = grid.Cell(u);
+      for (int dz = -2; dz <= 2; ++dz)
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) {
+            if (!grid.Contains(c[0] + dx, c[1] + dy, c[2] + dz)) continue;
+            const uint32_t w = uint32_t(grid.Index(c[0] + dx, c[1] + dy, c[2] + dz));
+            const SemanticVoxelRecord* q = labels->map.Find(w);
+            if (!q || !wall(*q) || wood.count(w) || !seen.insert(w).second) continue;
+            for (size_t k = 0; k < 3; ++k) around[k].push_back(q->rgb[k]);
+          }
+    }
+    if (int(around[0].size()) < kWallUnitMinAroundVoxels) continue;  // No wall around to tell it from.
+    const std::array<uint8_t, 3> a = MedianColour(&in), b = MedianColour(&around);
+    double d = 0;
+    for (size_t k = 0; k < 3; ++k) d += double(int(a[k]) - int(b[k])) * double(int(a[k]) - int(b[k]));
+    if (std::sqrt(d) < kWallUnitMinContrast) continue;
+    changes.insert(changes.end(), comp.begin(), comp.end());
+    ++labels->wall_unit_components;
+  }
+  for (uint32_t u : changes) labels->map.Find(u)->label = uint16_t(nyu40::kCabinet);
+  labels->wall_unit_voxels = changes.size();
+  SEMVOX_INFO("wooden wall units: " << changes.size() << " wall voxels of " << labels->wall_unit_components
+                                    << " hung wood-coloured parts relabelled cabinet");
 }
 
 }  // namespace semvox

@@ -41,6 +41,8 @@ struct SemanticLabels {
   size_t doorless_voxels = 0;             // and those voxels.
   int tall_object_wall_segments = 0;      // ApplyTallObjectWalls: tall object segments whose wall voxels were relabelled,
   size_t tall_object_wall_voxels = 0;     // and those voxels.
+  int wall_unit_components = 0;          // ApplyWoodenWallUnits: hung wood-coloured parts of the wall relabelled cabinet,
+  size_t wall_unit_voxels = 0;            // and their voxels.
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
@@ -123,5 +125,19 @@ void ApplyWallOpenings(const VoxelMap& map, const WallOpeningOptions& options, S
 // window joins the furniture in front of it. Without a segment term nothing changes.
 inline constexpr double kTallObjectMinTopM = 1.5, kTallObjectMinCeilingGapM = 0.3, kTallObjectMinProbability = 0.5;
 void ApplyTallObjectWalls(const SemanticEvidence& evidence, const VoxelCrfModel& model, SemanticLabels* labels);
+
+// Wooden wall units are cabinets. A kitchen's or bedroom's wall units hang on the wall 1.3-2.4 m up, 0.3-0.4 m deep,
+// and their fronts cover the upper half of the wall band, so the object segmentation keeps their columns as wall and
+// the Voxel-CRF labels them wall. After the tall objects: the voxels labelled wall whose colour (the per-channel
+// median over the voxel and its 26 neighbours labelled wall) is wood's (WoodColour with kWallUnitWoodChroma) form
+// 26-connected parts; a part of at least kWallUnitMinVoxels voxels that hangs on the wall (its bottom at least
+// kWallUnitMinBottomM above the floor, at most kWallUnitMaxHeightM tall), lies on no door's or window's span (within
+// kWallUnitOpeningMarginCells: a frame), and whose median colour lies at least kWallUnitMinContrast (RGB) from that
+// of the wall voxels around it (not in wood's colour, within two cells; at least kWallUnitMinAroundVoxels of them)
+// takes the label cabinet. A wall painted in a wood tone, its brighter parts split from its shaded ones, is its own
+// colour around them. Completed voxels (never seen, their colour borrowed) neither change nor count.
+inline constexpr int kWallUnitWoodChroma = 60, kWallUnitMinVoxels = 50, kWallUnitOpeningMarginCells = 3, kWallUnitMinAroundVoxels = 20;
+inline constexpr double kWallUnitMinBottomM = 1.0, kWallUnitMaxHeightM = 1.3, kWallUnitMinContrast = 30;
+void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels);
 
 }  // namespace semvox

@@ -7,6 +7,8 @@
 // ApplyDoorsInDoorways: door voxels far from every door found are a curtain (thin) or a cabinet (thick).
 // ApplyTallObjectWalls: the wall voxels of a tall object segment clear of the ceiling take its class by shape;
 // a low segment's, one reaching the ceiling, one its shape calls wall or calls an object unsurely, stay wall.
+// ApplyWoodenWallUnits: a hung wood-coloured part of the wall labels, of another colour than the wall around it, is
+// a cabinet; one down to the floor, one on a window's span, one of the wall's own colour, stay wall.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -412,6 +414,73 @@ TEST(TallObjectWalls, WithoutASegmentTermNothingChanges) {
   unsegmented.evidence.segmentation.reset();
   ApplyTallObjectWalls(unsegmented.evidence, unsegmented.model, &unsegmented.labels);
   EXPECT_EQ(unsegmented.labels.tall_object_wall_voxels, 0u);
+}
+
+// A wall face along x at y = 0 (40 x 1 x 50 cells of 5 cm, floor at z = 0), beige, 3 cells thick, with a wooden
+// wall unit on it from 1.4 to 2.2 m (x 5-14), a wooden panel down to the floor (x 20-25), and a wooden window frame
+// (x 30-35, 1.4-2.2 m) around a window found at x 31-34.
+struct WallUnitScene : FloorScene {
+  void Wall(std::array<uint8_t, 3> beige) {
+    for (int z = 0; z < 50; ++z)
+      for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 40; ++x) {
+          Add(x, y, z, nyu40::kWall);
+          labels.map.occupied.back().rgb = beige;
+        }
+    Sort();
+  }
+  void Paint(int x0, int x1, int z0, int z1, std::array<uint8_t, 3> rgb) {
+    for (int z = z0; z <= z1; ++z)
+      for (int y = 0; y < 3; ++y)
+        for (int x = x0; x <= x1; ++x) labels.map.Find(uint32_t(map.grid.Index(x, y, z)))->rgb = rgb;
+  }
+};
+
+WallUnitScene MakeWallUnitScene(std::array<uint8_t, 3> beige = {150, 140, 120}) {
+  WallUnitScene s;
+  s.map.grid = VoxelGrid(0.05, {32763, 32763, 32766}, {40, 10, 50});
+  s.map.floor_z = s.map.grid.CellCenter(0, 0, 0).z() - 0.025;
+  s.Wall(beige);
+  const std::array<uint8_t, 3> oak{170, 130, 85};
+  s.Paint(5, 14, 28, 43, oak);   // Wall unit: bottom 1.4 m, 0.8 m tall, 480 voxels.
+  s.Paint(20, 25, 0, 30, oak);   // Down to the floor.
+  s.Paint(30, 35, 28, 43, oak);  // A window's frame.
+  WallOpening window;
+  window.nyu40 = nyu40::kWindow, window.axis = 0, window.facing = 1, window.line = 2, window.along0 = 31, window.along1 = 34;
+  window.z0 = 29, window.z1 = 42;
+  s.labels.openings.push_back(window);
+  return s;
+}
+
+TEST(WoodenWallUnits, AHungWoodenPartOfTheWallIsACabinet) {
+  WallUnitScene s = MakeWallUnitScene();
+  ApplyWoodenWallUnits(s.map, &s.labels);
+  EXPECT_EQ(s.At(9, 1, 35), nyu40::kCabinet) << "the wall unit";
+  EXPECT_EQ(s.At(22, 1, 20), nyu40::kWall) << "a wooden panel down to the floor";
+  EXPECT_EQ(s.At(32, 1, 35), nyu40::kWall) << "a window's frame";
+  EXPECT_EQ(s.At(2, 1, 35), nyu40::kWall) << "the beige wall";
+  EXPECT_EQ(s.labels.wall_unit_components, 1);
+  EXPECT_GE(s.labels.wall_unit_voxels, 300u);
+  EXPECT_LE(s.labels.wall_unit_voxels, 480u);
+}
+
+TEST(WoodenWallUnits, APartOfTheWallsOwnColourStays) {
+  // A tan wall (chroma 40, no wood) whose lit upper part just reaches wood's chroma (150, 125, 88: 62): it hangs and
+  // is wood's colour, but lies 16 from the wall around it, under kWallUnitMinContrast.
+  WallUnitScene s = MakeWallUnitScene({140, 125, 100});
+  s.labels.openings.clear();
+  s.Paint(0, 39, 0, 49, {140, 125, 100});
+  s.Paint(5, 14, 28, 43, {150, 125, 88});
+  ApplyWoodenWallUnits(s.map, &s.labels);
+  EXPECT_EQ(s.At(9, 1, 35), nyu40::kWall);
+  EXPECT_EQ(s.labels.wall_unit_voxels, 0u);
+  // The same part in oak is a cabinet.
+  WallUnitScene oak = MakeWallUnitScene({140, 125, 100});
+  oak.labels.openings.clear();
+  oak.Paint(20, 39, 0, 49, {140, 125, 100});
+  ApplyWoodenWallUnits(oak.map, &oak.labels);
+  EXPECT_EQ(oak.At(9, 1, 35), nyu40::kCabinet);
+  EXPECT_EQ(oak.labels.wall_unit_components, 1);
 }
 
 }  // namespace
