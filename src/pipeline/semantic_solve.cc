@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <array>
-#include <unordered_set>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <unordered_set>
 
 #include <tbb/parallel_for.h>
 
@@ -133,6 +133,29 @@ std::array<uint8_t, 3> MedianColour(std::array<std::vector<uint8_t>, 3>* channel
   return m;
 }
 
+// The per-channel median colour of voxel v and those of its 26 neighbours that `keep` accepts (v itself whether or
+// not it does); `channels` is scratch space.
+template <class Keep>
+std::array<uint8_t, 3> NeighbourhoodMedianColour(const VoxelGrid& grid, const SemanticMap& map, const SemanticVoxelRecord& v,
+                                                 const Keep& keep, std::array<std::vector<uint8_t>, 3>* channels) {
+  for (auto& ch : *channels) ch.clear();
+  auto add = [&](const SemanticVoxelRecord& r) {
+    for (size_t k = 0; k < 3; ++k) (*channels)[k].push_back(r.rgb[k]);
+  };
+  add(v);
+  ForEachNeighbour(grid, map, grid.Cell(v.voxel), [&](const SemanticVoxelRecord& r) {
+    if (keep(r)) add(r);
+  });
+  return MedianColour(channels);
+}
+
+// Euclidean distance of two RGB colours (0-441).
+double ColourDistance(const std::array<uint8_t, 3>& a, const std::array<uint8_t, 3>& b) {
+  double d = 0;
+  for (size_t k = 0; k < 3; ++k) d += double(int(a[k]) - int(b[k])) * double(int(a[k]) - int(b[k]));
+  return std::sqrt(d);
+}
+
 }  // namespace
 
 void ApplyFloorSurface(const VoxelMap& map, double margin_m, SemanticLabels* labels) {
@@ -197,24 +220,19 @@ void ApplyWallColour(const VoxelMap& map, double min_distance, int rings, Semant
       for (int k = 0; k < 3; ++k) channels[size_t(k)].push_back(v.rgb[size_t(k)]);
   if (channels[0].empty()) return;
   labels->wall_colour = MedianColour(&channels);
-  auto distance = [](const std::array<uint8_t, 3>& a, const std::array<uint8_t, 3>& b) {
-    double d = 0;
-    for (int k = 0; k < 3; ++k) d += double(int(a[size_t(k)]) - int(b[size_t(k)])) * double(int(a[size_t(k)]) - int(b[size_t(k)]));
-    return std::sqrt(d);
-  };
   auto usable = [](int label) { return label != 0 && label != nyu40::kWall && label != nyu40::kFloor && label != nyu40::kCeiling; };
   for (int ring = 0; ring < rings; ++ring) {
     std::vector<std::pair<uint32_t, uint16_t>> changes;  // Decided on the labels before this ring.
     for (const SemanticVoxelRecord& v : labels->map.occupied) {
       if (v.label != nyu40::kWall || !coloured(v)) continue;
-      const double off_wall = distance(v.rgb, labels->wall_colour);
+      const double off_wall = ColourDistance(v.rgb, labels->wall_colour);
       if (off_wall < min_distance) continue;
       const auto c = grid.Cell(v.voxel);
       double best = off_wall;
       int label = 0;
       ForEachNeighbour(grid, labels->map, c, [&](const SemanticVoxelRecord& r) {
         if (!usable(int(r.label)) || !coloured(r)) return;
-        const double d = distance(v.rgb, r.rgb);
+        const double d = ColourDistance(v.rgb, r.rgb);
         if (d < best || (d == best && label != 0 && int(r.label) < label)) best = d, label = int(r.label);
       });
       if (label != 0) changes.emplace_back(v.voxel, uint16_t(label));
@@ -241,14 +259,7 @@ void ApplyRefrigeratorColour(const VoxelMap& map, int min_chroma, SemanticLabels
   std::array<std::vector<uint8_t>, 3> channels;
   for (const SemanticVoxelRecord& v : labels->map.occupied) {
     if (!fridge(v)) continue;
-    auto add = [&](const SemanticVoxelRecord& r) {
-      if (fridge(r))
-        for (size_t k = 0; k < 3; ++k) channels[k].push_back(r.rgb[k]);
-    };
-    for (auto& ch : channels) ch.clear();
-    add(v);
-    ForEachNeighbour(grid, labels->map, grid.Cell(v.voxel), add);
-    const std::array<uint8_t, 3> m = MedianColour(&channels);
+    const std::array<uint8_t, 3> m = NeighbourhoodMedianColour(grid, labels->map, v, fridge, &channels);
     if (WoodColour({m[0], m[1], m[2]}, min_chroma)) changes.push_back(v.voxel);
   }
   for (uint32_t voxel : changes) labels->map.Find(voxel)->label = uint16_t(nyu40::kCabinet);
@@ -370,14 +381,7 @@ void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels) {
   std::array<std::vector<uint8_t>, 3> channels;
   for (const SemanticVoxelRecord& v : labels->map.occupied) {
     if (!wall(v)) continue;
-    for (auto& ch : channels) ch.clear();
-    auto add = [&](const SemanticVoxelRecord& r) {
-      if (wall(r))
-        for (size_t k = 0; k < 3; ++k) channels[k].push_back(r.rgb[k]);
-    };
-    add(v);
-    ForEachNeighbour(grid, labels->map, grid.Cell(v.voxel), add);
-    const std::array<uint8_t, 3> m = MedianColour(&channels);
+    const std::array<uint8_t, 3> m = NeighbourhoodMedianColour(grid, labels->map, v, wall, &channels);
     if (WoodColour({m[0], m[1], m[2]}, kWallUnitWoodChroma)) wood.insert(v.voxel);
   }
   // Whether cell c lies on a door's or window's span (its frame), within kWallUnitOpeningMarginCells, and two cells
@@ -431,10 +435,7 @@ void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels) {
           }
     }
     if (int(around[0].size()) < kWallUnitMinAroundVoxels) continue;  // No wall around to tell it from.
-    const std::array<uint8_t, 3> a = MedianColour(&in), b = MedianColour(&around);
-    double d = 0;
-    for (size_t k = 0; k < 3; ++k) d += double(int(a[k]) - int(b[k])) * double(int(a[k]) - int(b[k]));
-    if (std::sqrt(d) < kWallUnitMinContrast) continue;
+    if (ColourDistance(MedianColour(&in), MedianColour(&around)) < kWallUnitMinContrast) continue;
     changes.insert(changes.end(), comp.begin(), comp.end());
     ++labels->wall_unit_components;
   }
