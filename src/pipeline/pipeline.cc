@@ -135,6 +135,7 @@ Status RoomsStage(const std::string& models_dir, PipelineResult* r) {
     r->room_types->context_relabelled = n;
     if (n > 0) SEMVOX_INFO("room context: " << n << " shower-curtain voxels outside bathrooms relabelled curtain");
   }
+  if (config.semantic.bar_tables) ApplyBarTables(r->map, r->evidence->segmentation.get(), &*r->labels);
   return Status::Ok();
 }
 }  // namespace
@@ -260,6 +261,7 @@ Result<PipelineResult> RunPipeline(const std::string& input, const PipelineOptio
       ApplyWallMargin(map, *r.evidence->segmentation, config.semantic.wall_margin_min_neighbours, &*r.labels);
     if (config.semantic.wall_colour)
       ApplyWallColour(map, config.semantic.wall_colour_min_distance, config.semantic.wall_colour_rings, &*r.labels);
+    if (config.semantic.furniture_feet) ApplyFurnitureFeet(map, &*r.labels);
     clock.AddTo(&r.seconds, "voxel_crf");
     progress.End();
   }

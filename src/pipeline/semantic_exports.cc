@@ -99,6 +99,7 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
     j["item_labels"] = models.items ? nlohmann::ordered_json{{"items", labels.item_groups}, {"voxels", labels.item_voxels}}
                                     : nlohmann::ordered_json("no model");
   if (options.floor_surface) j["floor_surface"] = {{"relabelled_voxels", labels.floor_surface_voxels}};
+  if (options.furniture_feet) j["furniture_feet"] = {{"relabelled_voxels", labels.furniture_feet_voxels}};
   if (options.wall_margin) j["wall_margin"] = {{"relabelled_voxels", labels.wall_margin_voxels}};
   if (options.wall_colour)
     j["wall_colour"] = {{"relabelled_voxels", labels.wall_colour_voxels},
@@ -112,6 +113,8 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
     j["tall_object_walls"] = {{"segments", labels.tall_object_wall_segments}, {"relabelled_voxels", labels.tall_object_wall_voxels}};
   if (options.wooden_wall_units)
     j["wooden_wall_units"] = {{"components", labels.wall_unit_components}, {"relabelled_voxels", labels.wall_unit_voxels}};
+  if (options.bar_tables && evidence.num_segments >= 0)
+    j["bar_tables"] = {{"segments", labels.bar_table_segments}, {"relabelled_voxels", labels.bar_table_voxels}};
   if (options.counter_min_top_m > 0 && evidence.num_segments >= 0)
     j["low_counters"] = {{"min_top_m", options.counter_min_top_m}, {"segments", evidence.low_counter_segments},
                          {"voxels", evidence.low_counter_voxels}};

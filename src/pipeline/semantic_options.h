@@ -73,6 +73,9 @@ struct SemanticStageOptions {
   // The floor is a surface: floor voxels wholly above it (their bottom floor_surface_margin_m or more above the
   // floor) take the label of what stands above or beside them, after the Voxel-CRF (pipeline/semantic_solve.h).
   bool floor_surface = true;
+  // Furniture stands on the floor: after the other steps, a floor voxel whose centre lies above the floor's surface
+  // takes the label of the object voxel right above it (pipeline/semantic_solve.h, ApplyFurnitureFeet).
+  bool furniture_feet = true;
   double floor_surface_margin_m = 0.03;
   // The walls' margin: wall voxels in the columns the object segmentation added to the walls (a cell around
   // every wall) take the label of at least wall_margin_min_neighbours of their neighbours that are neither wall,
@@ -101,6 +104,10 @@ struct SemanticStageOptions {
   // the floor, at most 1.3 m tall, 50 voxels or more) in wood's colour and another colour than the wall around it,
   // on no door's or window's span, is a cabinet (pipeline/semantic_solve.h, ApplyWoodenWallUnits).
   bool wooden_wall_units = true;
+  // A bar is a table by name and a counter by use: after the room types, the counter voxels of an object segment
+  // whose top surface lies 1.0 m or more above the floor and whose footprint's centre lies 0.6 m or more from every
+  // wall take table (pipeline/semantic_solve.h, ApplyBarTables).
+  bool bar_tables = true;
   // A counter is a work surface at counter height: an object segment whose top surface lies lower than this
   // (metres above the floor) is no counter, and the segment classifier's counter probability goes to table
   // before the Voxel-CRF (objects/segment_classifier.h, LowCounterToTable). 0: off.
@@ -161,6 +168,10 @@ struct SemanticStageOptions {
                          "after the Voxel-CRF, floor voxels lying wholly above the floor's surface (the bottoms of walls "
                          "and furniture) take the label of the voxel above them or of most of their neighbours; off: "
                          "the Voxel-CRF's label stays"),
+            OptionSwitch(&O::furniture_feet, "furniture_feet",
+                         "after the other steps, a voxel labelled floor whose centre lies above the floor's surface and "
+                         "whose upper neighbour is labelled an object (not floor, ceiling, wall, door or window) takes that "
+                         "label: the foot of the furniture standing there; off: the labels stay"),
             OptionNumber(&O::floor_surface_margin_m, "floor_surface_margin_m", 0, 0.5, "metres",
                          "how far above the floor a voxel's bottom must lie for floor_surface (the floor's scan noise)"),
             OptionSwitch(&O::wall_margin, "wall_margin",
@@ -199,6 +210,11 @@ struct SemanticStageOptions {
                          "chroma 60 or more) that hangs on the wall (its bottom 1.0 m or more above the floor, at most "
                          "1.3 m tall, 50 voxels or more), lies on no door's or window's span and differs from the wall "
                          "around it by 30 or more (RGB) is a cabinet: wooden wall units; off: the labels stay"),
+            OptionSwitch(&O::bar_tables, "bar_tables",
+                         "after the room types (which read it as kitchen furniture), the voxels labelled counter of an "
+                         "object segment whose top surface lies 1.0 m or more above the floor and whose footprint's "
+                         "centre lies 0.6 m or more from every wall take table: a bar or island, which ScanNet and NYU "
+                         "name table; off: the labels stay"),
             OptionNumber(&O::counter_min_top_m, "counter_min_top_m", 0, 3, "metres",
                          "an object segment whose top surface lies lower than this above the floor is no counter: the "
                          "segment classifier's counter probability goes to table before the Voxel-CRF (kitchen counters "

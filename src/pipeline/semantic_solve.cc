@@ -187,6 +187,25 @@ void ApplyFloorSurface(const VoxelMap& map, double margin_m, SemanticLabels* lab
                                 << margin_m << " m or more above the floor relabelled");
 }
 
+void ApplyFurnitureFeet(const VoxelMap& map, SemanticLabels* labels) {
+  const VoxelGrid& grid = map.grid;
+  auto object = [](int label) {
+    return label != 0 && label != nyu40::kFloor && label != nyu40::kCeiling && label != nyu40::kWall && label != nyu40::kDoor &&
+           label != nyu40::kWindow;
+  };
+  std::vector<std::pair<uint32_t, uint16_t>> changes;  // Decided on the labels before this step.
+  for (const SemanticVoxelRecord& v : labels->map.occupied) {
+    if (v.label != nyu40::kFloor || double(v.centre.z()) <= map.floor_z) continue;
+    const auto c = grid.Cell(v.voxel);
+    if (!grid.Contains(c[0], c[1], c[2] + 1)) continue;
+    const SemanticVoxelRecord* up = labels->map.Find(uint32_t(grid.Index(c[0], c[1], c[2] + 1)));
+    if (up && object(int(up->label))) changes.emplace_back(v.voxel, up->label);
+  }
+  for (const auto& [voxel, label] : changes) labels->map.Find(voxel)->label = label;
+  labels->furniture_feet_voxels = changes.size();
+  SEMVOX_INFO("furniture feet: " << changes.size() << " floor voxels under furniture relabelled");
+}
+
 void ApplyWallMargin(const VoxelMap& map, const SegmentationResult& segmentation, int min_neighbours, SemanticLabels* labels) {
   const VoxelGrid& grid = map.grid;
   const auto& d = grid.dims();
@@ -443,6 +462,31 @@ void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels) {
   labels->wall_unit_voxels = changes.size();
   SEMVOX_INFO("wooden wall units: " << changes.size() << " wall voxels of " << labels->wall_unit_components
                                     << " hung wood-coloured parts relabelled cabinet");
+}
+
+void ApplyBarTables(const VoxelMap& map, const SegmentationResult* segmentation, SemanticLabels* labels) {
+  labels->bar_table_segments = 0;
+  labels->bar_table_voxels = 0;
+  if (!segmentation) return;
+  for (const ObjectSegment& s : segmentation->segments) {
+    if (s.features[kSegTopSurface] < kBarMinTopM || s.features[kSegWallDistance] < kBarMinWallDistanceM) continue;
+    // The segment's counter voxels, and the counter voxels joined to them (the Voxel-CRF's reach past the segment).
+    std::vector<uint32_t> bar;
+    for (uint32_t v : s.voxels) {
+      SemanticVoxelRecord* r = labels->map.Find(v);
+      if (r && r->label == nyu40::kCounter) r->label = nyu40::kTable, bar.push_back(v);
+    }
+    for (size_t i = 0; i < bar.size(); ++i)
+      ForEachNeighbour(map.grid, labels->map, map.grid.Cell(bar[i]), [&](const SemanticVoxelRecord& r) {
+        if (r.label != nyu40::kCounter) return;
+        labels->map.Find(r.voxel)->label = nyu40::kTable;
+        bar.push_back(r.voxel);
+      });
+    labels->bar_table_voxels += bar.size();
+    labels->bar_table_segments += !bar.empty();
+  }
+  SEMVOX_INFO("bar tables: " << labels->bar_table_voxels << " counter voxels of " << labels->bar_table_segments
+                             << " free-standing counter-height segments relabelled table");
 }
 
 }  // namespace semvox

@@ -33,6 +33,7 @@ struct SemanticLabels {
   size_t item_voxels = 0;             // and the voxels it relabelled.
   double seconds_items = 0;
   size_t floor_surface_voxels = 0;    // ApplyFloorSurface: floor voxels above the floor's surface relabelled.
+  size_t furniture_feet_voxels = 0;   // ApplyFurnitureFeet: floor voxels under furniture relabelled.
   size_t wall_margin_voxels = 0;      // ApplyWallMargin: wall voxels of the walls' margin relabelled.
   size_t wall_colour_voxels = 0;      // ApplyWallColour: wall voxels off the walls' colour relabelled.
   std::array<uint8_t, 3> wall_colour{0, 0, 0};  // ApplyWallColour: the walls' colour (per-channel median).
@@ -43,6 +44,8 @@ struct SemanticLabels {
   size_t tall_object_wall_voxels = 0;     // and those voxels.
   int wall_unit_components = 0;          // ApplyWoodenWallUnits: hung wood-coloured parts of the wall relabelled cabinet,
   size_t wall_unit_voxels = 0;            // and their voxels.
+  int bar_table_segments = 0;             // ApplyBarTables: free-standing counter-height segments whose counter voxels
+  size_t bar_table_voxels = 0;            // became table, and those voxels.
 };
 
 // Solves the CRF of `evidence` (built on `map`) with `model` and `options`; may be called again with other
@@ -69,6 +72,14 @@ void ApplyItemLabels(const VoxelMap& map, const SemanticEvidence& evidence, cons
 // neither floor nor ceiling, else the most frequent such label among its 26 neighbours, else stays floor.
 // Voxels are visited from the top down, so a relabelled voxel passes its label on to the one below it.
 void ApplyFloorSurface(const VoxelMap& map, double margin_m, SemanticLabels* labels);
+
+// Furniture stands on the floor. The floor's scan noise fills two layers of voxels, the one whose centre lies under
+// the floor's surface (map.floor_z) and the one above it; a piece of furniture that reaches the floor fills the
+// upper one too, and that voxel holds the furniture's foot as much as the floor. After the other steps: a voxel
+// labelled floor whose centre lies above the floor's surface and whose upper neighbour is labelled an object (any
+// label but floor, ceiling, wall, door and window) takes its upper neighbour's label. Open floor (nothing on it) and
+// the foot of a wall, a door or a window stay floor.
+void ApplyFurnitureFeet(const VoxelMap& map, SemanticLabels* labels);
 
 // The wall's margin: the object segmentation grows the wall columns by a cell (SegmentOptions::
 // wall_dilation_cells) so that a noisy wall's surface stays wall, and with it takes the back of whatever stands
@@ -139,5 +150,14 @@ void ApplyTallObjectWalls(const SemanticEvidence& evidence, const VoxelCrfModel&
 inline constexpr int kWallUnitWoodChroma = 60, kWallUnitMinVoxels = 50, kWallUnitOpeningMarginCells = 3, kWallUnitMinAroundVoxels = 20;
 inline constexpr double kWallUnitMinBottomM = 1.0, kWallUnitMaxHeightM = 1.3, kWallUnitMinContrast = 30;
 void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels);
+
+// A bar is a table by name and a counter by use. A counter is a work surface along a wall; a top at counter height
+// or above (kSegTopSurface at least kBarMinTopM above the floor) whose footprint's centre lies kBarMinWallDistanceM
+// or more from every wall column (kSegWallDistance) is a bar or an island, which ScanNet's and NYU's annotators name
+// table. The room types read it as the kitchen furniture it is, so this step runs after them (pipeline.cc,
+// RoomsStage): the voxels labelled counter of such an object segment, and those joined to them (26-connected),
+// take the label table. Without a segmentation nothing changes.
+inline constexpr double kBarMinTopM = 1.0, kBarMinWallDistanceM = 0.6;
+void ApplyBarTables(const VoxelMap& map, const SegmentationResult* segmentation, SemanticLabels* labels);
 
 }  // namespace semvox

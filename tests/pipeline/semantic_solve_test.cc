@@ -9,6 +9,9 @@
 // a low segment's, one reaching the ceiling, one its shape calls wall or calls an object unsurely, stay wall.
 // ApplyWoodenWallUnits: a hung wood-coloured part of the wall labels, of another colour than the wall around it, is
 // a cabinet; one down to the floor, one on a window's span, one of the wall's own colour, stay wall.
+// ApplyFurnitureFeet: a floor voxel above the floor's surface under an object takes its label; one under the
+// surface, one under a wall or nothing, stays floor. ApplyBarTables: the counter voxels of a free-standing
+// counter-height segment, and those joined to them, are table; a counter along a wall, a low one, stay counter.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -481,6 +484,72 @@ TEST(WoodenWallUnits, APartOfTheWallsOwnColourStays) {
   ApplyWoodenWallUnits(oak.map, &oak.labels);
   EXPECT_EQ(oak.At(9, 1, 35), nyu40::kCabinet);
   EXPECT_EQ(oak.labels.wall_unit_components, 1);
+}
+
+TEST(FurnitureFeet, TheFloorVoxelUnderAnObjectIsItsFoot) {
+  FloorScene s = MakeFloorScene();
+  for (int z = 3; z < 7; ++z) s.Add(5, 2, z, nyu40::kBed);
+  for (int z = 3; z < 7; ++z) s.Add(8, 2, z, nyu40::kWall);
+  s.Add(1, 1, 15 - 6, nyu40::kTable);  // A top far above the floor: nothing in between.
+  s.Sort();
+  ApplyFurnitureFeet(s.map, &s.labels);
+  EXPECT_EQ(s.At(5, 2, 2), nyu40::kBed) << "layer 2's centre lies above the surface; the bed stands on it";
+  EXPECT_EQ(s.At(5, 2, 1), nyu40::kFloor) << "layer 1's centre lies under the surface";
+  EXPECT_EQ(s.At(8, 2, 2), nyu40::kFloor) << "a wall's foot stays floor";
+  EXPECT_EQ(s.At(1, 1, 2), nyu40::kFloor) << "nothing right above";
+  EXPECT_EQ(s.At(3, 3, 4), nyu40::kSofa) << "the sofa's column: the floor voxel under its bottom";
+  EXPECT_EQ(s.At(3, 3, 3), nyu40::kFloor) << "floor above: the step reads the labels as they were";
+  EXPECT_EQ(s.labels.furniture_feet_voxels, 2u);
+}
+
+// Object segments on a 40 x 40 x 30 grid of 5 cm cells, floor at z = 0, labelled counter: a bar standing free
+// (top 1.1 m, 1.0 m from every wall), a counter along a wall (0.2 m) and a low free-standing one (0.9 m).
+struct BarScene : FloorScene {
+  std::shared_ptr<SegmentationResult> seg = std::make_shared<SegmentationResult>();
+  void Segment(int x, double top_m, double wall_distance_m) {
+    ObjectSegment o;
+    for (int z = 1; z <= int(top_m / 0.05); ++z)
+      for (int dx = 0; dx < 3; ++dx) {
+        Add(x + dx, 5, z, nyu40::kCounter);
+        o.voxels.push_back(uint32_t(map.grid.Index(x + dx, 5, z)));
+      }
+    std::sort(o.voxels.begin(), o.voxels.end());
+    o.features[kSegTopSurface] = float(top_m);
+    o.features[kSegWallDistance] = float(wall_distance_m);
+    seg->segments.push_back(o);
+  }
+};
+
+BarScene MakeBarScene() {
+  BarScene s;
+  s.map.grid = VoxelGrid(0.05, {32763, 32763, 32766}, {40, 40, 30});
+  s.Segment(2, 1.1, 1.0);
+  s.Segment(12, 1.1, 0.2);
+  s.Segment(22, 0.9, 1.0);
+  s.Add(5, 5, 22, nyu40::kCounter);   // Joined to the bar (outside its segment).
+  s.Add(6, 5, 22, nyu40::kCounter);   // Joined to that one.
+  s.Add(3, 6, 23, nyu40::kSofa);      // Another label beside it stays.
+  s.Add(8, 5, 22, nyu40::kCounter);   // Apart from it.
+  s.Sort();
+  return s;
+}
+
+TEST(BarTables, AFreeStandingCounterHeightTopIsATable) {
+  BarScene s = MakeBarScene();
+  ApplyBarTables(s.map, s.seg.get(), &s.labels);
+  EXPECT_EQ(s.At(3, 5, 10), nyu40::kTable) << "the bar";
+  EXPECT_EQ(s.At(5, 5, 22), nyu40::kTable) << "joined to the bar";
+  EXPECT_EQ(s.At(6, 5, 22), nyu40::kTable) << "joined through another";
+  EXPECT_EQ(s.At(8, 5, 22), nyu40::kCounter) << "apart";
+  EXPECT_EQ(s.At(3, 6, 23), nyu40::kSofa);
+  EXPECT_EQ(s.At(13, 5, 10), nyu40::kCounter) << "a counter along a wall";
+  EXPECT_EQ(s.At(23, 5, 10), nyu40::kCounter) << "a low counter";
+  EXPECT_EQ(s.labels.bar_table_segments, 1);
+  EXPECT_EQ(s.labels.bar_table_voxels, 3u * 22u + 2u);
+  BarScene none = MakeBarScene();
+  ApplyBarTables(none.map, nullptr, &none.labels);
+  EXPECT_EQ(none.At(3, 5, 10), nyu40::kCounter) << "without a segmentation nothing changes";
+  EXPECT_EQ(none.labels.bar_table_voxels, 0u);
 }
 
 }  // namespace
