@@ -257,6 +257,7 @@ Result<PipelineResult> RunPipeline(const std::string& input, const PipelineOptio
       ApplyDoorsInDoorways(map, r.evidence->segmentation.get(), &*r.labels);
     if (config.semantic.tall_object_walls) ApplyTallObjectWalls(*r.evidence, r.models->crf, &*r.labels);
     if (config.semantic.wooden_wall_units) ApplyWoodenWallUnits(map, &*r.labels);
+    if (config.semantic.hung_wall_cabinets) ApplyHungWallCabinets(map, &*r.labels);
     if (config.semantic.wall_margin && r.evidence->segmentation)
       ApplyWallMargin(map, *r.evidence->segmentation, config.semantic.wall_margin_min_neighbours, &*r.labels);
     if (config.semantic.wall_colour)

@@ -113,6 +113,8 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
     j["tall_object_walls"] = {{"segments", labels.tall_object_wall_segments}, {"relabelled_voxels", labels.tall_object_wall_voxels}};
   if (options.wooden_wall_units)
     j["wooden_wall_units"] = {{"components", labels.wall_unit_components}, {"relabelled_voxels", labels.wall_unit_voxels}};
+  if (options.hung_wall_cabinets)
+    j["hung_wall_cabinets"] = {{"components", labels.hung_wall_components}, {"relabelled_voxels", labels.hung_wall_voxels}};
   if (options.bar_tables && evidence.num_segments >= 0)
     j["bar_tables"] = {{"segments", labels.bar_table_segments}, {"relabelled_voxels", labels.bar_table_voxels}};
   if (options.counter_min_top_m > 0 && evidence.num_segments >= 0)

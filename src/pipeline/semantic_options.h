@@ -104,6 +104,10 @@ struct SemanticStageOptions {
   // the floor, at most 1.3 m tall, 50 voxels or more) in wood's colour and another colour than the wall around it,
   // on no door's or window's span, is a cabinet (pipeline/semantic_solve.h, ApplyWoodenWallUnits).
   bool wooden_wall_units = true;
+  // A wall stands on the floor; a wall cabinet hangs: after the wooden wall units, a part of the wall labels over
+  // 0.4 m of free space, its bottom 1.0-1.8 m above the floor, at most 1.3 m tall, 50 voxels or more, on no door's
+  // or window's span, is a cabinet (pipeline/semantic_solve.h, ApplyHungWallCabinets).
+  bool hung_wall_cabinets = true;
   // A bar is a table by name and a counter by use: after the room types, the counter voxels of an object segment
   // whose top surface lies 1.0 m or more above the floor and whose footprint's centre lies 0.6 m or more from every
   // wall take table (pipeline/semantic_solve.h, ApplyBarTables).
@@ -210,6 +214,11 @@ struct SemanticStageOptions {
                          "chroma 60 or more) that hangs on the wall (its bottom 1.0 m or more above the floor, at most "
                          "1.3 m tall, 50 voxels or more), lies on no door's or window's span and differs from the wall "
                          "around it by 30 or more (RGB) is a cabinet: wooden wall units; off: the labels stay"),
+            OptionSwitch(&O::hung_wall_cabinets, "hung_wall_cabinets",
+                         "after the wooden wall units, a part of the voxels labelled wall that hangs over 0.4 m of free "
+                         "space (its bottom 1.0-1.8 m above the floor, at most 1.3 m tall, 50 voxels or more) and lies on "
+                         "no door's or window's span is a cabinet: a wall stands on the floor, a wall cabinet hangs; "
+                         "off: the labels stay"),
             OptionSwitch(&O::bar_tables, "bar_tables",
                          "after the room types (which read it as kitchen furniture), the voxels labelled counter of an "
                          "object segment whose top surface lies 1.0 m or more above the floor and whose footprint's "

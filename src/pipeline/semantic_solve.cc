@@ -112,6 +112,18 @@ void ForEachNeighbour(const VoxelGrid& grid, const SemanticMap& map, const std::
       }
 }
 
+// Whether cell c lies on the span of a door or window found in the walls, or within kWallUnitOpeningMarginCells of
+// it (its frame).
+bool FramesOpening(const std::vector<WallOpening>& openings, const std::array<int, 3>& c) {
+  constexpr int m = kWallUnitOpeningMarginCells;
+  for (const WallOpening& o : openings) {
+    const int along = o.axis == 0 ? c[0] : c[1], across = o.axis == 0 ? c[1] : c[0];
+    if (along >= o.along0 - m && along <= o.along1 + m && std::abs(across - o.line) <= m + 2 && c[2] >= o.z0 - m && c[2] <= o.z1 + m)
+      return true;
+  }
+  return false;
+}
+
 // The labels of the labelled 26 neighbours of cell c that `usable` accepts (ApplyFloorSurface, ApplyWallMargin).
 template <class Usable>
 std::vector<int> NeighbourLabels(const VoxelGrid& grid, const SemanticMap& map, const std::array<int, 3>& c, const Usable& usable) {
@@ -405,15 +417,6 @@ void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels) {
   }
   // Whether cell c lies on a door's or window's span (its frame), within kWallUnitOpeningMarginCells, and two cells
   // more across the wall (a fused cloud's wall band is up to four cells thick).
-  auto frames_opening = [&](const std::array<int, 3>& c) {
-    constexpr int m = kWallUnitOpeningMarginCells;
-    for (const WallOpening& o : labels->openings) {
-      const int along = o.axis == 0 ? c[0] : c[1], across = o.axis == 0 ? c[1] : c[0];
-      if (along >= o.along0 - m && along <= o.along1 + m && std::abs(across - o.line) <= m + 2 && c[2] >= o.z0 - m && c[2] <= o.z1 + m)
-        return true;
-    }
-    return false;
-  };
   std::unordered_set<uint32_t> done;
   std::vector<uint32_t> changes;
   for (const SemanticVoxelRecord& v0 : labels->map.occupied) {
@@ -430,7 +433,7 @@ void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels) {
     for (uint32_t u : comp) {
       const auto c = grid.Cell(u);
       zlo = std::min(zlo, c[2]), zhi = std::max(zhi, c[2]);
-      framing = framing || frames_opening(c);
+      framing = framing || FramesOpening(labels->openings, c);
     }
     // Hung on the wall, no taller than a wall unit, and no door's or window's frame.
     const double bottom = grid.CellCenter(0, 0, zlo).z() - map.floor_z, height = (zhi - zlo + 1) * res;
@@ -462,6 +465,64 @@ void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels) {
   labels->wall_unit_voxels = changes.size();
   SEMVOX_INFO("wooden wall units: " << changes.size() << " wall voxels of " << labels->wall_unit_components
                                     << " hung wood-coloured parts relabelled cabinet");
+}
+
+void ApplyHungWallCabinets(const VoxelMap& map, SemanticLabels* labels) {
+  labels->hung_wall_components = 0;
+  labels->hung_wall_voxels = 0;
+  const VoxelGrid& grid = map.grid;
+  const double res = grid.resolution();
+  const int gap = std::max(1, int(std::lround(kHungMinGapM / res)));
+  auto wall_at = [&](int x, int y, int z) {
+    if (!grid.Contains(x, y, z)) return false;
+    const SemanticVoxelRecord* r = labels->map.Find(uint32_t(grid.Index(x, y, z)));
+    return r && r->label == nyu40::kWall;
+  };
+  // The voxels that hang: under their run of wall voxels, `gap` cells unoccupied, half of them or more seen free.
+  std::unordered_set<uint32_t> hung;
+  for (const SemanticVoxelRecord& v : labels->map.occupied) {
+    if (v.label != nyu40::kWall || v.completed) continue;
+    const auto c = grid.Cell(v.voxel);
+    int z = c[2];
+    while (wall_at(c[0], c[1], z - 1)) --z;
+    int free = 0;
+    bool open = true;
+    for (int k = 1; k <= gap && open; ++k) {
+      if (!grid.Contains(c[0], c[1], z - k)) open = false;
+      else if (labels->map.Find(uint32_t(grid.Index(c[0], c[1], z - k)))) open = false;
+      else free += grid.state(grid.Index(c[0], c[1], z - k)) == VoxelState::kFree;
+    }
+    if (open && 2 * free >= gap) hung.insert(v.voxel);
+  }
+  std::unordered_set<uint32_t> done;
+  std::vector<uint32_t> changes;
+  for (const SemanticVoxelRecord& v0 : labels->map.occupied) {
+    if (!hung.count(v0.voxel) || !done.insert(v0.voxel).second) continue;
+    std::vector<uint32_t> part{v0.voxel};
+    for (size_t i = 0; i < part.size(); ++i)
+      ForEachNeighbour(grid, labels->map, grid.Cell(part[i]), [&](const SemanticVoxelRecord& r) {
+        if (hung.count(r.voxel) && done.insert(r.voxel).second) part.push_back(r.voxel);
+      });
+    if (int(part.size()) < kHungMinVoxels) continue;
+    int zlo = std::numeric_limits<int>::max(), zhi = std::numeric_limits<int>::min();
+    bool framing = false;
+    std::unordered_set<size_t> columns;  // Its footprint: a cabinet is deep, a strip of wall is not.
+    for (uint32_t u : part) {
+      const auto c = grid.Cell(u);
+      zlo = std::min(zlo, c[2]), zhi = std::max(zhi, c[2]);
+      framing = framing || FramesOpening(labels->openings, c);
+      columns.insert(size_t(c[1]) * size_t(grid.dims()[0]) + size_t(c[0]));
+    }
+    const double bottom = grid.CellCenter(0, 0, zlo).z() - 0.5 * res - map.floor_z, height = (zhi - zlo + 1) * res;
+    if (bottom < kHungMinBottomM || bottom > kHungMaxBottomM || height > kHungMaxHeightM || framing) continue;
+    if (double(columns.size()) * res * res < kHungMinFootprintM2) continue;
+    changes.insert(changes.end(), part.begin(), part.end());
+    ++labels->hung_wall_components;
+  }
+  for (uint32_t u : changes) labels->map.Find(u)->label = uint16_t(nyu40::kCabinet);
+  labels->hung_wall_voxels = changes.size();
+  SEMVOX_INFO("hung wall cabinets: " << changes.size() << " wall voxels of " << labels->hung_wall_components
+                                     << " parts hung over free space relabelled cabinet");
 }
 
 void ApplyBarTables(const VoxelMap& map, const SegmentationResult* segmentation, SemanticLabels* labels) {

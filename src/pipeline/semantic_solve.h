@@ -44,6 +44,8 @@ struct SemanticLabels {
   size_t tall_object_wall_voxels = 0;     // and those voxels.
   int wall_unit_components = 0;          // ApplyWoodenWallUnits: hung wood-coloured parts of the wall relabelled cabinet,
   size_t wall_unit_voxels = 0;            // and their voxels.
+  int hung_wall_components = 0;          // ApplyHungWallCabinets: parts of the wall labels hung over free space
+  size_t hung_wall_voxels = 0;            // relabelled cabinet, and their voxels.
   int bar_table_segments = 0;             // ApplyBarTables: free-standing counter-height segments whose counter voxels
   size_t bar_table_voxels = 0;            // became table, and those voxels.
 };
@@ -150,6 +152,20 @@ void ApplyTallObjectWalls(const SemanticEvidence& evidence, const VoxelCrfModel&
 inline constexpr int kWallUnitWoodChroma = 60, kWallUnitMinVoxels = 50, kWallUnitOpeningMarginCells = 3, kWallUnitMinAroundVoxels = 20;
 inline constexpr double kWallUnitMinBottomM = 1.0, kWallUnitMaxHeightM = 1.3, kWallUnitMinContrast = 30;
 void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels);
+
+// A wall stands on the floor; a wall cabinet hangs. A wall unit's front covers the upper half of the wall band, so
+// the object segmentation keeps its columns as wall and the Voxel-CRF labels it wall, whatever its colour. After the
+// wooden wall units: a voxel labelled wall (not completed) whose column holds, under the bottom of its run of wall
+// voxels, kHungMinGapM of cells that are not occupied, at least half of them seen free, hangs. The hanging voxels
+// form 26-connected parts; a part of at least kHungMinVoxels voxels whose bottom lies kHungMinBottomM to
+// kHungMaxBottomM above the floor (under a door's lintel), at most kHungMaxHeightM tall, whose footprint covers at
+// least kHungMinFootprintM2 (a cabinet is deep, a strip of wall over an opening is not), on no door's or window's span
+// found in the walls (within kWallUnitOpeningMarginCells), takes the label cabinet. The wall itself, and a picture
+// or a panel flat on it, share their columns with the wall under them; the wall behind furniture was never seen.
+inline constexpr double kHungMinGapM = 0.4, kHungMinBottomM = 1.0, kHungMaxBottomM = 1.8, kHungMaxHeightM = 1.3,
+                        kHungMinFootprintM2 = 0.1;
+inline constexpr int kHungMinVoxels = 50;
+void ApplyHungWallCabinets(const VoxelMap& map, SemanticLabels* labels);
 
 // A bar is a table by name and a counter by use. A counter is a work surface along a wall; a top at counter height
 // or above (kSegTopSurface at least kBarMinTopM above the floor) whose footprint's centre lies kBarMinWallDistanceM

@@ -35,7 +35,10 @@ constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; me
                                             // (2026-12-07), 0.317 with the walls' colour
                                             // (2026-12-06), 0.354 with the walls' margin
                                             // (2026-12-06), 0.375 before, 0.431 (0.546).
-constexpr double kMinMeanBoxRecall = 0.30;  // Mean over boxes holding voxels; measured 0.583 with furniture's feet
+constexpr double kMinMeanBoxRecall = 0.55;  // Mean over boxes holding voxels; measured 0.602 with hung wall cabinets
+                                            // (semantic.hung_wall_cabinets, 2026-12-07; 0.408 with the segment model of
+                                            // seeds 110-209: a retrained segment model is measured here first), 0.583
+                                            // with furniture's feet
                                             // (semantic.furniture_feet, 2026-12-07; 0.388 with the segment model of seeds
                                             // 110-209), 0.565 with bars as tables (semantic.bar_tables, 2026-12-07),
                                             // 0.535 with wooden wall units
@@ -71,7 +74,8 @@ constexpr double kMaxBathroomArea = 6.0;    // The room holding the toilet box's
 // Per-class recall floors (gt.json class names; voxels pooled over the class's boxes).
 const std::map<std::string, double> kMinClassRecall = {
     {"bed", 0.60},          // measured 0.794 (0.537)
-    {"cabinet", 0.10},      // measured 0.669 with wooden wall units (2026-12-07: the wall units over the counter),
+    {"cabinet", 0.50},      // measured 0.701 with hung wall cabinets (2026-12-07: the bedroom's wall cabinet), 0.669
+                            // with wooden wall units (2026-12-07: the wall units over the counter),
                             // 0.605 with tall furniture no wall (2026-12-07: the corner wardrobe's front;
                             // 0.253 with the segment model of seeds 110-209, which calls it otherfurniture), 0.402 with
                             // doors in their doorways (2026-12-07: the tall cabinet called door;
@@ -205,6 +209,10 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   // The oak wall units over the kitchen counter hang in the wall columns, in another colour than the beige wall
   // around them (semantic.wooden_wall_units; measured 2 parts, 685 voxels).
   EXPECT_GE(summary["semantic"]["wooden_wall_units"]["relabelled_voxels"].get<int>(), 300);
+  // The bedroom's dark wall cabinet, the colour of the shaded wall beside it, hangs over free space
+  // (semantic.hung_wall_cabinets; measured 1 part, 380 voxels).
+  EXPECT_EQ(summary["semantic"]["hung_wall_cabinets"]["components"].get<int>(), 1);
+  EXPECT_GE(summary["semantic"]["hung_wall_cabinets"]["relabelled_voxels"].get<int>(), 200);
   // The kitchen's bar (top 1.1 m, 1.0 m from every wall), called counter, is a table by name once the rooms have read
   // it as kitchen furniture (semantic.bar_tables; measured 1 segment, 3,628 voxels).
   EXPECT_EQ(summary["semantic"]["bar_tables"]["segments"].get<int>(), 1);

@@ -9,6 +9,8 @@
 // a low segment's, one reaching the ceiling, one its shape calls wall or calls an object unsurely, stay wall.
 // ApplyWoodenWallUnits: a hung wood-coloured part of the wall labels, of another colour than the wall around it, is
 // a cabinet; one down to the floor, one on a window's span, one of the wall's own colour, stay wall.
+// ApplyHungWallCabinets: a part of the wall labels hung over seen free space is a cabinet; the wall, a pillar, a
+// lintel over a door found, a small part, a shallow one and one over space never seen stay wall.
 // ApplyFurnitureFeet: a floor voxel above the floor's surface under an object takes its label; one under the
 // surface, one under a wall or nothing, stays floor. ApplyBarTables: the counter voxels of a free-standing
 // counter-height segment, and those joined to them, are table; a counter along a wall, a low one, stay counter.
@@ -484,6 +486,73 @@ TEST(WoodenWallUnits, APartOfTheWallsOwnColourStays) {
   ApplyWoodenWallUnits(oak.map, &oak.labels);
   EXPECT_EQ(oak.At(9, 1, 35), nyu40::kCabinet);
   EXPECT_EQ(oak.labels.wall_unit_components, 1);
+}
+
+// A 60 x 10 x 60 grid of 5 cm cells, floor at z = 0, the space in front of a wall (y 0-1, full height) seen free. A
+// cabinet labelled wall hangs in front of it (x 5-14, y 2-7, z 28-43: bottom 1.4 m); a pillar stands on the floor
+// (x 20-23); a small part hangs (x 26-27, y 2, z 30-35); a part hangs over a door found (x 30-39, z 34-40: a lintel
+// 1.7 m up); a shelf one cell deep hangs (x 42-50, y 2, z 28-35: footprint 0.02 m²); a part hangs over space never
+// seen (x 52-59).
+struct HungScene : FloorScene {
+  void Box(int x0, int x1, int y0, int y1, int z0, int z1) {
+    for (int z = z0; z <= z1; ++z)
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) Add(x, y, z, nyu40::kWall);
+  }
+};
+
+HungScene MakeHungScene() {
+  HungScene s;
+  s.map.grid = VoxelGrid(0.05, {32763, 32763, 32766}, {60, 10, 60});
+  s.map.floor_z = s.map.grid.CellCenter(0, 0, 0).z() - 0.025;
+  for (size_t i = 0; i < s.map.grid.size(); ++i) s.map.grid.set_state(i, VoxelState::kFree);
+  s.Box(0, 59, 0, 1, 0, 55);
+  s.Box(5, 14, 2, 7, 28, 43);
+  s.Box(20, 23, 2, 7, 0, 55);
+  s.Box(26, 27, 2, 2, 30, 35);
+  s.Box(30, 39, 2, 7, 34, 40);
+  s.Box(42, 50, 2, 2, 28, 35);
+  s.Box(52, 59, 2, 7, 28, 43);
+  for (int z = 0; z < 28; ++z)
+    for (int y = 2; y <= 7; ++y)
+      for (int x = 52; x <= 59; ++x) s.map.grid.set_state(s.map.grid.Index(x, y, z), VoxelState::kUnknown);
+  for (const SemanticVoxelRecord& r : s.labels.map.occupied) s.map.grid.set_state(r.voxel, VoxelState::kOccupied);
+  WallOpening door;
+  door.nyu40 = nyu40::kDoor, door.axis = 0, door.facing = 1, door.line = 2, door.along0 = 31, door.along1 = 38;
+  door.z0 = 0, door.z1 = 33;
+  s.labels.openings.push_back(door);
+  s.Sort();
+  return s;
+}
+
+TEST(HungWallCabinets, APartOfTheWallHungOverFreeSpaceIsACabinet) {
+  HungScene s = MakeHungScene();
+  ApplyHungWallCabinets(s.map, &s.labels);
+  EXPECT_EQ(s.At(9, 4, 35), nyu40::kCabinet) << "the hung cabinet";
+  EXPECT_EQ(s.At(9, 7, 28), nyu40::kCabinet) << "its bottom front";
+  EXPECT_EQ(s.At(9, 1, 35), nyu40::kWall) << "the wall behind it stands on the floor";
+  EXPECT_EQ(s.At(21, 4, 35), nyu40::kWall) << "a pillar";
+  EXPECT_EQ(s.At(26, 2, 32), nyu40::kWall) << "a small part";
+  EXPECT_EQ(s.At(35, 4, 37), nyu40::kWall) << "a lintel over a door";
+  EXPECT_EQ(s.At(46, 2, 30), nyu40::kWall) << "a shelf one cell deep";
+  EXPECT_EQ(s.At(55, 4, 35), nyu40::kWall) << "over space never seen";
+  EXPECT_EQ(s.labels.hung_wall_components, 1);
+  EXPECT_EQ(s.labels.hung_wall_voxels, 10u * 6u * 16u);
+}
+
+TEST(HungWallCabinets, ALowPartOrATallOneStaysWall) {
+  // The same cabinet from 0.6 m (a sideboard's top left as wall, say) and one 1.6 m tall stay wall.
+  HungScene low = MakeHungScene();
+  for (int z = 12; z < 28; ++z)
+    for (int y = 2; y <= 7; ++y)
+      for (int x = 5; x <= 14; ++x) low.Add(x, y, z, nyu40::kWall);
+  for (int z = 0; z < 12; ++z)
+    for (int y = 2; y <= 7; ++y)
+      for (int x = 5; x <= 14; ++x) low.map.grid.set_state(low.map.grid.Index(x, y, z), VoxelState::kFree);
+  low.Sort();
+  ApplyHungWallCabinets(low.map, &low.labels);
+  EXPECT_EQ(low.At(9, 4, 35), nyu40::kWall) << "bottom 0.6 m, 1.6 m tall";
+  EXPECT_EQ(low.labels.hung_wall_components, 0);
 }
 
 TEST(FurnitureFeet, TheFloorVoxelUnderAnObjectIsItsFoot) {
