@@ -113,7 +113,7 @@ void ForEachNeighbour(const VoxelGrid& grid, const SemanticMap& map, const std::
 }
 
 // Whether cell c lies on the span of a door or window found in the walls, or within kWallUnitOpeningMarginCells of
-// it (its frame).
+// it (its frame), and two cells more across the wall (a fused cloud's wall band is up to four cells thick).
 bool FramesOpening(const std::vector<WallOpening>& openings, const std::array<int, 3>& c) {
   constexpr int m = kWallUnitOpeningMarginCells;
   for (const WallOpening& o : openings) {
@@ -122,6 +122,24 @@ bool FramesOpening(const std::vector<WallOpening>& openings, const std::array<in
       return true;
   }
   return false;
+}
+
+// The 26-connected parts of `members` (labelled voxels), each in the order a search from its first voxel in the
+// map's order reaches them; parts in that order too.
+std::vector<std::vector<uint32_t>> ConnectedParts(const VoxelGrid& grid, const SemanticMap& map,
+                                                  const std::unordered_set<uint32_t>& members) {
+  std::vector<std::vector<uint32_t>> parts;
+  std::unordered_set<uint32_t> done;
+  for (const SemanticVoxelRecord& v0 : map.occupied) {
+    if (!members.count(v0.voxel) || !done.insert(v0.voxel).second) continue;
+    std::vector<uint32_t> part{v0.voxel};
+    for (size_t i = 0; i < part.size(); ++i)
+      ForEachNeighbour(grid, map, grid.Cell(part[i]), [&](const SemanticVoxelRecord& r) {
+        if (members.count(r.voxel) && done.insert(r.voxel).second) part.push_back(r.voxel);
+      });
+    parts.push_back(std::move(part));
+  }
+  return parts;
 }
 
 // The labels of the labelled 26 neighbours of cell c that `usable` accepts (ApplyFloorSurface, ApplyWallMargin).
@@ -415,18 +433,9 @@ void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels) {
     const std::array<uint8_t, 3> m = NeighbourhoodMedianColour(grid, labels->map, v, wall, &channels);
     if (WoodColour({m[0], m[1], m[2]}, kWallUnitWoodChroma)) wood.insert(v.voxel);
   }
-  // Whether cell c lies on a door's or window's span (its frame), within kWallUnitOpeningMarginCells, and two cells
-  // more across the wall (a fused cloud's wall band is up to four cells thick).
-  std::unordered_set<uint32_t> done;
   std::vector<uint32_t> changes;
-  for (const SemanticVoxelRecord& v0 : labels->map.occupied) {
-    if (!wood.count(v0.voxel) || !done.insert(v0.voxel).second) continue;
-    // A 26-connected component of wood-coloured wall voxels.
-    std::vector<uint32_t> comp{v0.voxel};
-    for (size_t i = 0; i < comp.size(); ++i)
-      ForEachNeighbour(grid, labels->map, grid.Cell(comp[i]), [&](const SemanticVoxelRecord& r) {
-        if (wood.count(r.voxel) && done.insert(r.voxel).second) comp.push_back(r.voxel);
-      });
+  // The 26-connected parts of wood-coloured wall voxels.
+  for (const std::vector<uint32_t>& comp : ConnectedParts(grid, labels->map, wood)) {
     if (int(comp.size()) < kWallUnitMinVoxels) continue;
     int zlo = std::numeric_limits<int>::max(), zhi = std::numeric_limits<int>::min();
     bool framing = false;
@@ -494,15 +503,8 @@ void ApplyHungWallCabinets(const VoxelMap& map, SemanticLabels* labels) {
     }
     if (open && 2 * free >= gap) hung.insert(v.voxel);
   }
-  std::unordered_set<uint32_t> done;
   std::vector<uint32_t> changes;
-  for (const SemanticVoxelRecord& v0 : labels->map.occupied) {
-    if (!hung.count(v0.voxel) || !done.insert(v0.voxel).second) continue;
-    std::vector<uint32_t> part{v0.voxel};
-    for (size_t i = 0; i < part.size(); ++i)
-      ForEachNeighbour(grid, labels->map, grid.Cell(part[i]), [&](const SemanticVoxelRecord& r) {
-        if (hung.count(r.voxel) && done.insert(r.voxel).second) part.push_back(r.voxel);
-      });
+  for (const std::vector<uint32_t>& part : ConnectedParts(grid, labels->map, hung)) {
     if (int(part.size()) < kHungMinVoxels) continue;
     int zlo = std::numeric_limits<int>::max(), zhi = std::numeric_limits<int>::min();
     bool framing = false;
