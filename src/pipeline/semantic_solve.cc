@@ -31,6 +31,16 @@ Status SolveSemantic(const VoxelMap& map, const SemanticEvidence& evidence, cons
   return Status::Ok();
 }
 
+namespace {
+
+// The building's own labels: wall, floor, ceiling, door and window. Every other label is an object's.
+bool StructureLabel(int label) {
+  return label == nyu40::kWall || label == nyu40::kFloor || label == nyu40::kCeiling || label == nyu40::kDoor ||
+         label == nyu40::kWindow;
+}
+
+}  // namespace
+
 void ApplyOtherLabels(const VoxelMap& map, const SemanticEvidence& evidence, const VoxelCrfModel& model,
                       const OtherLabeller& labeller, int min_voxels, SemanticLabels* labels) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -89,7 +99,7 @@ void ApplyItemLabels(const VoxelMap& map, const SemanticEvidence& evidence, cons
         SemanticVoxelRecord* it = labels->map.Find(v);
         if (!it) continue;
         const int l = it->label;
-        if (l == nyu40::kWall || l == nyu40::kFloor || l == nyu40::kCeiling || l == nyu40::kDoor || l == nyu40::kWindow || l == ids[i][g]) continue;
+        if (StructureLabel(l) || l == ids[i][g]) continue;
         it->label = uint16_t(ids[i][g]);
         ++labels->item_voxels;
       }
@@ -122,6 +132,26 @@ bool FramesOpening(const std::vector<WallOpening>& openings, const std::array<in
       return true;
   }
   return false;
+}
+
+// A part's lowest and highest layer, its footprint (cells), and whether it lies on a door's or window's span.
+struct PartExtent {
+  int zlo = std::numeric_limits<int>::max(), zhi = std::numeric_limits<int>::min();
+  size_t columns = 0;
+  bool frames_opening = false;
+};
+
+PartExtent MeasurePart(const VoxelGrid& grid, const std::vector<WallOpening>& openings, const std::vector<uint32_t>& part) {
+  PartExtent e;
+  std::unordered_set<size_t> columns;
+  for (uint32_t u : part) {
+    const auto c = grid.Cell(u);
+    e.zlo = std::min(e.zlo, c[2]), e.zhi = std::max(e.zhi, c[2]);
+    e.frames_opening = e.frames_opening || FramesOpening(openings, c);
+    columns.insert(size_t(c[1]) * size_t(grid.dims()[0]) + size_t(c[0]));
+  }
+  e.columns = columns.size();
+  return e;
 }
 
 // The 26-connected parts of `members` (labelled voxels), each in the order a search from its first voxel in the
@@ -219,17 +249,13 @@ void ApplyFloorSurface(const VoxelMap& map, double margin_m, SemanticLabels* lab
 
 void ApplyFurnitureFeet(const VoxelMap& map, SemanticLabels* labels) {
   const VoxelGrid& grid = map.grid;
-  auto object = [](int label) {
-    return label != 0 && label != nyu40::kFloor && label != nyu40::kCeiling && label != nyu40::kWall && label != nyu40::kDoor &&
-           label != nyu40::kWindow;
-  };
   std::vector<std::pair<uint32_t, uint16_t>> changes;  // Decided on the labels before this step.
   for (const SemanticVoxelRecord& v : labels->map.occupied) {
     if (v.label != nyu40::kFloor || double(v.centre.z()) <= map.floor_z) continue;
     const auto c = grid.Cell(v.voxel);
     if (!grid.Contains(c[0], c[1], c[2] + 1)) continue;
     const SemanticVoxelRecord* up = labels->map.Find(uint32_t(grid.Index(c[0], c[1], c[2] + 1)));
-    if (up && object(int(up->label))) changes.emplace_back(v.voxel, up->label);
+    if (up && up->label != 0 && !StructureLabel(up->label)) changes.emplace_back(v.voxel, up->label);
   }
   for (const auto& [voxel, label] : changes) labels->map.Find(voxel)->label = label;
   labels->furniture_feet_voxels = changes.size();
@@ -404,8 +430,7 @@ void ApplyTallObjectWalls(const SemanticEvidence& evidence, const VoxelCrfModel&
     const float* p = &evidence.voxels.segment[size_t(node) * size_t(K)];
     const int k = int(std::max_element(p, p + K) - p);
     const int id = model.nyu40_of_class[size_t(k)];
-    if (p[k] < kTallObjectMinProbability || id <= 0 || id == nyu40::kWall || id == nyu40::kFloor || id == nyu40::kCeiling ||
-        id == nyu40::kWindow || id == nyu40::kDoor || model.class_names[size_t(k)] == "other")
+    if (p[k] < kTallObjectMinProbability || id <= 0 || StructureLabel(id) || model.class_names[size_t(k)] == "other")
       continue;
     size_t n = 0;
     for (uint32_t v : s.voxels) {
@@ -437,16 +462,10 @@ void ApplyWoodenWallUnits(const VoxelMap& map, SemanticLabels* labels) {
   // The 26-connected parts of wood-coloured wall voxels.
   for (const std::vector<uint32_t>& comp : ConnectedParts(grid, labels->map, wood)) {
     if (int(comp.size()) < kWallUnitMinVoxels) continue;
-    int zlo = std::numeric_limits<int>::max(), zhi = std::numeric_limits<int>::min();
-    bool framing = false;
-    for (uint32_t u : comp) {
-      const auto c = grid.Cell(u);
-      zlo = std::min(zlo, c[2]), zhi = std::max(zhi, c[2]);
-      framing = framing || FramesOpening(labels->openings, c);
-    }
+    const PartExtent e = MeasurePart(grid, labels->openings, comp);
     // Hung on the wall, no taller than a wall unit, and no door's or window's frame.
-    const double bottom = grid.CellCenter(0, 0, zlo).z() - map.floor_z, height = (zhi - zlo + 1) * res;
-    if (bottom < kWallUnitMinBottomM || height > kWallUnitMaxHeightM || framing) continue;
+    const double bottom = grid.CellCenter(0, 0, e.zlo).z() - map.floor_z, height = (e.zhi - e.zlo + 1) * res;
+    if (bottom < kWallUnitMinBottomM || height > kWallUnitMaxHeightM || e.frames_opening) continue;
     // Another colour than the wall around it (the wall voxels not in wood's colour within two cells): a wall painted
     // in a wood tone, its light parts split from its shaded ones, is its own colour around them.
     std::array<std::vector<uint8_t>, 3> in, around;
@@ -506,18 +525,11 @@ void ApplyHungWallCabinets(const VoxelMap& map, SemanticLabels* labels) {
   std::vector<uint32_t> changes;
   for (const std::vector<uint32_t>& part : ConnectedParts(grid, labels->map, hung)) {
     if (int(part.size()) < kHungMinVoxels) continue;
-    int zlo = std::numeric_limits<int>::max(), zhi = std::numeric_limits<int>::min();
-    bool framing = false;
-    std::unordered_set<size_t> columns;  // Its footprint: a cabinet is deep, a strip of wall is not.
-    for (uint32_t u : part) {
-      const auto c = grid.Cell(u);
-      zlo = std::min(zlo, c[2]), zhi = std::max(zhi, c[2]);
-      framing = framing || FramesOpening(labels->openings, c);
-      columns.insert(size_t(c[1]) * size_t(grid.dims()[0]) + size_t(c[0]));
-    }
-    const double bottom = grid.CellCenter(0, 0, zlo).z() - 0.5 * res - map.floor_z, height = (zhi - zlo + 1) * res;
-    if (bottom < kHungMinBottomM || bottom > kHungMaxBottomM || height > kHungMaxHeightM || framing) continue;
-    if (double(columns.size()) * res * res < kHungMinFootprintM2) continue;
+    const PartExtent e = MeasurePart(grid, labels->openings, part);
+    const double bottom = grid.CellCenter(0, 0, e.zlo).z() - 0.5 * res - map.floor_z, height = (e.zhi - e.zlo + 1) * res;
+    if (bottom < kHungMinBottomM || bottom > kHungMaxBottomM || height > kHungMaxHeightM || e.frames_opening) continue;
+    // Its footprint: a cabinet is deep, a strip of wall is not.
+    if (double(e.columns) * res * res < kHungMinFootprintM2) continue;
     changes.insert(changes.end(), part.begin(), part.end());
     ++labels->hung_wall_components;
   }
