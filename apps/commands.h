@@ -53,12 +53,14 @@ struct EvalArgs {
   std::string pred_dir;    // OUTDIR of `semvox run`.
   std::string gt_dir;      // Directory written by `semvox generate --seed N`.
   std::string boxes_path;  // Or: a real scan's furniture boxes (gt.json with axis_align_matrix; eval/box_eval.h).
+  std::string points_path; // Or: a real scan's labelled points (PLY with x, y, z, label; eval/point_eval.h).
   std::string output;      // JSON report path; default PRED/eval.json with --gt, none with --boxes.
   bool json = false;       // Print the JSON report on stdout instead of the table.
 };
 
 // `semvox eval`: scores the run's outputs against the ground truth (--gt: a generated apartment, writes
-// eval.json; --boxes: a real scan's furniture boxes, eval/box_eval.h), prints a table or the JSON report.
+// eval.json; --boxes: a real scan's furniture boxes, eval/box_eval.h; --points: its labelled points,
+// eval/point_eval.h), prints a table or the JSON report.
 Status RunEval(const EvalArgs& args);
 
 // ---- rooms (apps/rooms_command.cc) ----

@@ -78,13 +78,18 @@ int main(int argc, char** argv) {
 
   semvox::EvalArgs eval;
   CLI::App* eval_cmd = app.add_subcommand("eval", "score `semvox run` outputs against a generated apartment's ground truth "
-                                          "or a real scan's furniture boxes");
+                                          "or a real scan's furniture boxes or labelled points");
   eval_cmd->add_option("--pred", eval.pred_dir, "OUTDIR of semvox run")->required();
   auto* eval_gt = eval_cmd->add_option("--gt", eval.gt_dir, "directory written by semvox generate --seed N");
   auto* eval_boxes = eval_cmd->add_option("--boxes", eval.boxes_path,
                                           "real scan: ScanNet-style gt.json (axis_align_matrix, boxes_in_aligned_frame) or SUN RGB-D-style gt_boxes.tsv (yawed boxes; docs/metrics.md)");
+  auto* eval_points = eval_cmd->add_option("--points", eval.points_path,
+                                           "real scan: a PLY of labelled points in the scan's frame (x, y, z, NYU40 label), "
+                                           "each scored by the nearest voxel within 7.5 cm (docs/metrics.md)");
   eval_gt->excludes(eval_boxes);
-  eval_cmd->add_option("-o,--output", eval.output, "JSON report path (default PRED/eval.json with --gt, none with --boxes)");
+  eval_gt->excludes(eval_points);
+  eval_boxes->excludes(eval_points);
+  eval_cmd->add_option("-o,--output", eval.output, "JSON report path (default PRED/eval.json with --gt, none with --boxes or --points)");
   eval_cmd->add_flag("--json", eval.json, "print the JSON report on stdout instead of the table");
   eval_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
 

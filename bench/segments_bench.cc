@@ -3,7 +3,7 @@
 //
 //   segments_bench --train 0-39 --val 100-109 [-o DIR]           # k-NN into DIR/object_segments.knn
 //   segments_bench --train 0-39 --dump SEGMENTS.tsv                # only the labelled segments, no training
-//   segments_bench --model MODEL.knn|MODEL.forest --scan INPUT [--up z]      # segments of a real scan
+//   segments_bench --model MODEL.knn|MODEL.forest --scan INPUT [--up z] [--voxel M]  # segments of a real scan
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -167,6 +167,7 @@ int Compare(const std::string& files, const LabelLevel& level) {
 int main(int argc, char** argv) {
   std::string train, val, out, model, scan, ply, dump, compare;
   SegmentOptions so;
+  VoxelizeOptions voxelize;  // --voxel: the voxel size of --scan.
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--train") train = argv[i + 1];
@@ -185,6 +186,7 @@ int main(int argc, char** argv) {
     else if (a == "--front-max") so.front_max_depth_m = std::atof(argv[i + 1]);
     else if (a == "--front-min") so.front_min_depth_m = std::atof(argv[i + 1]);
     else if (a == "--wall-dilation") so.wall_dilation_cells = std::atoi(argv[i + 1]);
+    else if (a == "--voxel") voxelize.voxel_size_m = std::atof(argv[i + 1]);
     else {
       std::fprintf(stderr, "segments_bench: unknown argument %s\n", a.c_str());
       return 2;
@@ -235,7 +237,7 @@ int main(int argc, char** argv) {
     const SceneFrame frame = EstimateSceneFrame(*scene);
     const Eigen::Isometry3d input_from_world = frame.identity() ? Eigen::Isometry3d::Identity() : frame.input_from_canonical();
     if (!frame.identity()) TransformScene(frame.canonical_from_input, &*scene);
-    Result<VoxelMap> map = Voxelize(*scene, VoxelizeOptions{});
+    Result<VoxelMap> map = Voxelize(*scene, voxelize);
     if (!map.ok()) return 1;
     const SegmentationResult seg = SegmentObjects(map->grid, map->floor_z, map->ceiling_z, map->ceiling_found, so);
     size_t structure[4] = {0, 0, 0, 0};

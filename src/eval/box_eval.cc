@@ -20,17 +20,16 @@ namespace {
 
 double Ratio(size_t num, size_t den) { return den ? double(num) / double(den) : 0.0; }
 
+}  // namespace
+
 std::string LabelName(int id) { return id >= 0 && id < kNumNyu40 ? Nyu40Labels()[size_t(id)].name : "id " + std::to_string(id); }
 
-// Table (7) and desk (14) stand for each other; other labels only for themselves.
-bool Matches(int predicted, int box_label) {
+bool LabelsMatch(int predicted, int truth) {
   using namespace nyu40;
-  if (predicted == box_label) return true;
+  if (predicted == truth) return true;
   const auto table_like = [](int l) { return l == kTable || l == kDesk; };
-  return table_like(predicted) && table_like(box_label);
+  return table_like(predicted) && table_like(truth);
 }
-
-}  // namespace
 
 Result<RunVoxels> ReadRunVoxels(const std::string& path, double voxel_size_m) {
   Result<PlyData> ply = ReadPly(path);
@@ -39,6 +38,7 @@ Result<RunVoxels> ReadRunVoxels(const std::string& path, double voxel_size_m) {
   const PlyProperty *x = v ? v->Find("x") : nullptr, *y = v ? v->Find("y") : nullptr, *z = v ? v->Find("z") : nullptr;
   if (!x || !y || !z) return Status::InvalidInput(FileError(path, "expected vertices with x, y, z", "pass the voxels.ply of `semvox run`"));
   const PlyProperty* label = v->Find("label");
+  const PlyProperty* confidence = v->Find("confidence");
   if (!label)
     return Status::InvalidInput(FileError(path, "vertices have no label property",
                                           "pass the voxels.ply of `semvox run`, which has one NYU40 label per voxel"));
@@ -50,6 +50,7 @@ Result<RunVoxels> ReadRunVoxels(const std::string& path, double voxel_size_m) {
     out.centres.emplace_back(x->values[i], y->values[i], z->values[i]);
     out.labels.push_back(int(label->values[i]));
   }
+  if (confidence) out.confidence.assign(confidence->values.begin(), confidence->values.end());
   return out;
 }
 
@@ -77,6 +78,9 @@ BoxEvalReport EvaluateBoxes(const RunVoxels& voxels, const BoxGroundTruth& gt) {
   for (size_t i = 0; i < n; ++i) q[i] = rot * voxels.centres[i] + shift;
 
   std::vector<char> in_any(n, 0);
+  const bool has_confidence = voxels.confidence.size() >= n;
+  std::vector<float> conf;
+  std::vector<uint8_t> right;
   double recall_sum = 0;
   for (const GroundTruthBox& box : gt.boxes) {
     BoxScore s;
@@ -88,7 +92,9 @@ BoxEvalReport EvaluateBoxes(const RunVoxels& voxels, const BoxGroundTruth& gt) {
       in_any[i] = 1;
       ++s.voxels;
       ++counts[voxels.labels[i]];
-      if (Matches(voxels.labels[i], box.nyu40)) ++s.correct;
+      const bool ok = LabelsMatch(voxels.labels[i], box.nyu40);
+      s.correct += ok;
+      if (has_confidence) conf.push_back(voxels.confidence[i]), right.push_back(ok);
     }
     for (const auto& [label, count] : counts) s.top.push_back({label, count});
     std::stable_sort(s.top.begin(), s.top.end(), [](const LabelCount& a, const LabelCount& b) { return a.count > b.count; });
@@ -125,6 +131,7 @@ BoxEvalReport EvaluateBoxes(const RunVoxels& voxels, const BoxGroundTruth& gt) {
     if (in_any[i] || z[i] < rep.floor_z_m || z[i] >= rep.floor_z_m + kFloorBandM) continue;
     ++rep.floor_band_voxels;
     floor_ok += voxels.labels[i] == nyu40::kFloor;
+    if (has_confidence) conf.push_back(voxels.confidence[i]), right.push_back(voxels.labels[i] == nyu40::kFloor);
   }
   std::ostringstream band;
   band << rep.floor_band_voxels << " voxels in the band [" << std::fixed << std::setprecision(3) << rep.floor_z_m << ", "
@@ -133,6 +140,7 @@ BoxEvalReport EvaluateBoxes(const RunVoxels& voxels, const BoxGroundTruth& gt) {
                                            : Score{false, 0.0, "no voxel in the floor band"};
   rep.wall_share = n ? Score{true, Ratio(walls, n), std::to_string(n) + " occupied voxels"} : Score{false, 0.0, "no occupied voxel"};
   rep.rooms_present = Score{false, 0.0, "rooms.geojson not read"};
+  rep.confidence = ScoreConfidence(conf, right);
   return rep;
 }
 
@@ -175,33 +183,43 @@ Result<std::vector<std::pair<std::string, double>>> ReadRunSeconds(const std::st
   return out;
 }
 
+Result<RunExtras> ReadRunExtras(const std::string& pred_dir) {
+  std::error_code ec;
+  if (!fs::is_directory(pred_dir, ec))
+    return Status::InvalidInput(FileError(pred_dir, "not a directory", "pass the OUTDIR of `semvox run`"));
+  const auto path = [&](const char* name) { return (fs::path(pred_dir) / name).string(); };
+  RunExtras out;
+  if (fs::exists(path("summary.json"), ec)) {
+    Result<std::vector<std::pair<std::string, double>>> s = ReadRunSeconds(path("summary.json"), &out.voxel_size_m);
+    if (!s.ok()) return s.status();
+    out.seconds = std::move(s.value());
+  }
+  if (fs::exists(path("rooms.geojson"), ec)) {
+    Result<std::vector<RoomFound>> rooms = ReadRoomsFound(path("rooms.geojson"));
+    if (!rooms.ok()) return rooms.status();
+    out.rooms = std::move(rooms.value());
+    out.rooms_present = Score{true, 0.0, std::to_string(out.rooms.size()) + " rooms"};
+  } else {
+    out.rooms_present = Score{false, 0.0, "rooms.geojson not found"};
+  }
+  return out;
+}
+
 Result<BoxEvalReport> EvaluateRunAgainstBoxes(const std::string& pred_dir, const std::string& gt_path) {
   std::error_code ec;
   if (!fs::is_directory(pred_dir, ec))
     return Status::InvalidInput(FileError(pred_dir, "not a directory", "pass the OUTDIR of `semvox run`"));
   Result<BoxGroundTruth> gt = ReadBoxGroundTruth(gt_path);
   if (!gt.ok()) return gt.status();
-  const auto path = [&](const char* name) { return (fs::path(pred_dir) / name).string(); };
-  double voxel_size_m = 0.05;
-  std::vector<std::pair<std::string, double>> seconds;
-  if (fs::exists(path("summary.json"), ec)) {
-    Result<std::vector<std::pair<std::string, double>>> s = ReadRunSeconds(path("summary.json"), &voxel_size_m);
-    if (!s.ok()) return s.status();
-    seconds = std::move(s.value());
-  }
-  Result<RunVoxels> voxels = ReadRunVoxels(path("voxels.ply"), voxel_size_m);
+  Result<RunExtras> extras = ReadRunExtras(pred_dir);
+  if (!extras.ok()) return extras.status();
+  Result<RunVoxels> voxels = ReadRunVoxels((fs::path(pred_dir) / "voxels.ply").string(), extras->voxel_size_m);
   if (!voxels.ok()) return voxels.status();
   BoxEvalReport rep = EvaluateBoxes(*voxels, *gt);
   rep.pred_dir = pred_dir;
-  rep.seconds = std::move(seconds);
-  if (fs::exists(path("rooms.geojson"), ec)) {
-    Result<std::vector<RoomFound>> rooms = ReadRoomsFound(path("rooms.geojson"));
-    if (!rooms.ok()) return rooms.status();
-    rep.rooms = std::move(rooms.value());
-    rep.rooms_present = Score{true, 0.0, std::to_string(rep.rooms.size()) + " rooms"};
-  } else {
-    rep.rooms_present = Score{false, 0.0, "rooms.geojson not found"};
-  }
+  rep.seconds = std::move(extras->seconds);
+  rep.rooms = std::move(extras->rooms);
+  rep.rooms_present = extras->rooms_present;
   return rep;
 }
 
@@ -229,24 +247,29 @@ std::string BoxEvalReport::ToJson() const {
   j["floor_band_voxels"] = floor_band_voxels;
   j["floor_recall"] = ScoreJson(floor_recall);
   j["wall_share"] = ScoreJson(wall_share);
-  nlohmann::ordered_json rs = nlohmann::ordered_json::array();
-  for (const RoomFound& r : rooms) rs.push_back({{"id", r.id}, {"type", r.type}, {"area_m2", Round6(r.area_m2)}});
-  j["rooms_present"] = ScoreJson(rooms_present);
-  j["rooms"] = rs;
-  nlohmann::ordered_json sec = nlohmann::ordered_json::object();
-  for (const auto& [stage, s] : seconds) sec[stage] = s;
-  j["seconds"] = sec;
+  if (confidence.scored) j["confidence"] = ConfidenceJson(confidence);
+  AddRoomsAndSecondsJson(rooms_present, rooms, seconds, j);
   return j.dump(2) + "\n";
+}
+
+void AppendRoomsAndSeconds(const Score& rooms_present, const std::vector<RoomFound>& rooms,
+                           const std::vector<std::pair<std::string, double>>& seconds, std::ostream& os) {
+  os << "  rooms:";
+  if (!rooms_present.present) os << " absent (" << rooms_present.note << ")";
+  else if (rooms.empty()) os << " none";
+  for (const RoomFound& r : rooms) os << " " << r.type << " " << std::fixed << std::setprecision(1) << r.area_m2 << " m2;";
+  os << "\n  run seconds:";
+  if (seconds.empty()) os << " absent (no summary.json or no seconds in it)";
+  for (const auto& [stage, s] : seconds)
+    if (stage == "total") os << " total " << std::fixed << std::setprecision(1) << s << ";";
+  for (const auto& [stage, s] : seconds)
+    if (stage != "total") os << " " << stage << " " << std::fixed << std::setprecision(1) << s;
+  os << "\n";
 }
 
 std::string BoxEvalReport::Table() const {
   std::ostringstream os;
-  const auto pct = [&](const Score& s) {
-    std::ostringstream p;
-    if (s.present) p << std::fixed << std::setprecision(1) << std::setw(6) << 100.0 * s.value << " %";
-    else p << std::setw(8) << "absent";
-    return p.str();
-  };
+  const auto pct = PercentCell;
   os << "semvox eval: " << pred_dir << " against boxes " << gt_path << " (" << occupied << " occupied voxels)\n";
   os << "  " << std::left << std::setw(4) << "box" << std::setw(14) << "class" << std::right << std::setw(6) << "nyu40"
      << std::setw(8) << "voxels" << std::setw(10) << "recall" << "   top labels (voxels)\n";
@@ -269,17 +292,8 @@ std::string BoxEvalReport::Table() const {
   row("mean box recall", mean_box_recall);
   row("floor recall", floor_recall);
   row("wall share", wall_share);
-  os << "  rooms:";
-  if (!rooms_present.present) os << " absent (" << rooms_present.note << ")";
-  else if (rooms.empty()) os << " none";
-  for (const RoomFound& r : rooms) os << " " << r.type << " " << std::fixed << std::setprecision(1) << r.area_m2 << " m2;";
-  os << "\n  run seconds:";
-  if (seconds.empty()) os << " absent (no summary.json or no seconds in it)";
-  for (const auto& [stage, s] : seconds)
-    if (stage == "total") os << " total " << std::fixed << std::setprecision(1) << s << ";";
-  for (const auto& [stage, s] : seconds)
-    if (stage != "total") os << " " << stage << " " << std::fixed << std::setprecision(1) << s;
-  os << "\n";
+  if (confidence.scored) os << ConfidenceTable(confidence);
+  AppendRoomsAndSeconds(rooms_present, rooms, seconds, os);
   return os.str();
 }
 

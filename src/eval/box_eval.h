@@ -14,12 +14,14 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <map>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/status.h"
 #include "dataset/scan_boxes.h"
+#include "eval/confidence_eval.h"
 #include "eval/evaluate.h"
 
 namespace semvox {
@@ -30,6 +32,7 @@ struct RunVoxels {
   std::vector<Eigen::Vector3d> centres;
   std::vector<int> labels;
   double voxel_size_m = 0.05;  // Edge length; sets the bins of the floor-height estimate.
+  std::vector<float> confidence;  // Per voxel, when voxels.ply has a `confidence` property; else empty.
 };
 
 // voxels.ply of `semvox run` (vertex x, y, z, label; other properties ignored). Missing file, missing
@@ -76,6 +79,9 @@ struct BoxEvalReport {
   size_t floor_band_voxels = 0;
   Score floor_recall;                           // Share labelled floor (2) in the band.
   Score wall_share;                             // Share of all occupied voxels labelled wall (1).
+  // The confidence of the voxels scored (inside a box: right when they carry its label; in the floor band: right
+  // when floor), when voxels.ply has a confidence (scored = 0 otherwise).
+  ConfidenceScores confidence;
   // From rooms.geojson and summary.json (EvaluateRunAgainstBoxes only).
   Score rooms_present;                          // Absent when rooms.geojson is missing; value unused.
   std::vector<RoomFound> rooms;
@@ -102,6 +108,24 @@ Result<std::vector<RoomFound>> ReadRoomsFound(const std::string& rooms_geojson);
 // summary.json -> its "seconds" object (stage -> seconds), in file order; empty when there is none.
 // `voxel_size_m` (may be null) receives summary.json's voxel_size_m when it is a positive number.
 Result<std::vector<std::pair<std::string, double>>> ReadRunSeconds(const std::string& summary_json, double* voxel_size_m = nullptr);
+
+// Table (7) and desk (14) stand for each other; other labels only for themselves.
+bool LabelsMatch(int predicted, int truth);
+// The NYU40 name of an id ("id N" outside 0-40).
+std::string LabelName(int id);
+
+// What a run's directory says beside its voxels: summary.json's voxel size and seconds, rooms.geojson's rooms.
+struct RunExtras {
+  double voxel_size_m = 0.05;
+  std::vector<std::pair<std::string, double>> seconds;
+  Score rooms_present;  // Absent when rooms.geojson is missing.
+  std::vector<RoomFound> rooms;
+};
+// OUTDIR must be a directory; summary.json and rooms.geojson are optional.
+Result<RunExtras> ReadRunExtras(const std::string& pred_dir);
+// The "rooms:" and "run seconds:" lines of the eval tables.
+void AppendRoomsAndSeconds(const Score& rooms_present, const std::vector<RoomFound>& rooms,
+                           const std::vector<std::pair<std::string, double>>& seconds, std::ostream& os);
 
 // Reads OUTDIR/voxels.ply (required), OUTDIR/summary.json (voxel size and seconds; optional) and
 // OUTDIR/rooms.geojson (optional; rooms_present absent without it) and scores them against gt.json.

@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
+
+#include "core/voxel_key.h"
 
 namespace semvox {
 
@@ -251,8 +254,11 @@ std::vector<std::vector<uint32_t>> SplitByTopHeight(const VoxelGrid& grid, std::
 
 }  // namespace
 
-SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double ceiling_z, bool ceiling_found,
-                                  const SegmentOptions& options) {
+namespace {
+
+// SegmentObjects on `grid` itself.
+SegmentationResult SegmentObjectsOnGrid(const VoxelGrid& grid, double floor_z, double ceiling_z, bool ceiling_found,
+                                        const SegmentOptions& options) {
   SegmentationResult out;
   const auto& d = grid.dims();
   const double res = grid.resolution();
@@ -394,7 +400,6 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
         for (int i : group) wall[size_t(i)] = 0;
     }
   }
-  out.wall_margin.assign(wall.size(), 0);
   if (options.wall_dilation_cells > 0) {
     std::vector<uint8_t> grown = wall;
     const int r = options.wall_dilation_cells;
@@ -407,7 +412,6 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
             if (xx >= 0 && yy >= 0 && xx < d[0] && yy < d[1]) grown[size_t(yy) * d[0] + xx] = 1;
           }
       }
-    for (size_t i = 0; i < wall.size(); ++i) out.wall_margin[i] = grown[i] && !wall[i];
     wall.swap(grown);
   }
   out.wall_distance = WallDistance(wall, d[0], d[1], res);
@@ -526,10 +530,88 @@ SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double 
   return out;
 }
 
+// The lattice of kSegmentCellM cells holding `grid`'s voxel centres, on OctoMap keys: a cell is occupied when any voxel
+// in it is, else free when any is, else unknown. `cell_of[axis][i]` is the lattice cell of the grid's cell i on
+// that axis (centres map to cells axis by axis).
+VoxelGrid FeatureLattice(const VoxelGrid& grid, std::array<std::vector<int>, 3>* cell_of) {
+  const double step = kSegmentCellM;
+  const auto& d = grid.dims();
+  std::array<int, 3> origin{}, dims{};
+  for (int a = 0; a < 3; ++a) {
+    const auto key = [&](int i) { return int(CoordToKeyIndex(KeyIndexToCoord(grid.origin_key()[a] + i, grid.resolution()), step)); };
+    origin[a] = key(0);
+    dims[a] = key(d[a] - 1) - origin[a] + 1;
+    (*cell_of)[a].resize(size_t(d[a]));
+    for (int i = 0; i < d[a]; ++i) (*cell_of)[a][size_t(i)] = key(i) - origin[a];
+  }
+  VoxelGrid lattice(step, origin, dims);
+  for (size_t i = 0; i < grid.size(); ++i) {
+    const VoxelState s = grid.state(i);
+    if (s == VoxelState::kUnknown) continue;
+    const auto c = grid.Cell(i);
+    const size_t j = lattice.Index((*cell_of)[0][size_t(c[0])], (*cell_of)[1][size_t(c[1])], (*cell_of)[2][size_t(c[2])]);
+    if (s == VoxelState::kOccupied || lattice.state(j) == VoxelState::kUnknown) lattice.set_state(j, s);
+  }
+  return lattice;
+}
+
+}  // namespace
+
+SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double ceiling_z, bool ceiling_found,
+                                  const SegmentOptions& options) {
+  if (grid.size() == 0 || grid.resolution() >= kSegmentCellM * (1 - 1e-9))
+    return SegmentObjectsOnGrid(grid, floor_z, ceiling_z, ceiling_found, options);
+  // A finer map: segments are found and described on the lattice, and each voxel takes its lattice cell's part.
+  std::array<std::vector<int>, 3> cell_of;
+  auto lattice = std::make_shared<VoxelGrid>(FeatureLattice(grid, &cell_of));
+  SegmentationResult coarse = SegmentObjectsOnGrid(*lattice, floor_z, ceiling_z, ceiling_found, options);
+  const auto& d = grid.dims();
+  const auto& ld = lattice->dims();
+  const auto parent = [&](const std::array<int, 3>& c) {
+    return lattice->Index(cell_of[0][size_t(c[0])], cell_of[1][size_t(c[1])], cell_of[2][size_t(c[2])]);
+  };
+  SegmentationResult out;
+  out.floor_z = coarse.floor_z;
+  out.top_z = coarse.top_z;
+  out.structure.assign(grid.size(), 0);
+  out.wall_distance.resize(size_t(d[0]) * size_t(d[1]));
+  for (int y = 0; y < d[1]; ++y)
+    for (int x = 0; x < d[0]; ++x)
+      out.wall_distance[size_t(y) * size_t(d[0]) + size_t(x)] =
+          coarse.wall_distance[size_t(cell_of[1][size_t(y)]) * size_t(ld[0]) + size_t(cell_of[0][size_t(x)])];
+  std::vector<int32_t> segment_of(lattice->size(), -1);
+  for (size_t s = 0; s < coarse.segments.size(); ++s)
+    for (uint32_t v : coarse.segments[s].voxels) segment_of[v] = int32_t(s);
+  out.segments.resize(coarse.segments.size());
+  for (size_t s = 0; s < coarse.segments.size(); ++s) out.segments[s].features = coarse.segments[s].features;
+  for (size_t i = 0; i < grid.size(); ++i) {
+    if (grid.state(i) != VoxelState::kOccupied) continue;
+    const size_t j = parent(grid.Cell(i));
+    out.structure[i] = coarse.structure[j];
+    if (segment_of[j] >= 0) out.segments[size_t(segment_of[j])].voxels.push_back(uint32_t(i));
+  }
+  out.feature_grid = std::move(lattice);
+  out.feature_wall_distance = std::move(coarse.wall_distance);
+  return out;
+}
+
 std::array<float, kNumSegmentFeatures> DescribeVoxels(const VoxelGrid& grid, const std::vector<uint32_t>& voxels,
                                                       const SegmentationResult& seg) {
   if (voxels.empty() || seg.wall_distance.size() != size_t(grid.dims()[0]) * size_t(grid.dims()[1])) return {};
-  return Describe(grid, voxels, seg.floor_z, seg.top_z, seg.wall_distance);
+  if (!seg.feature_grid) return Describe(grid, voxels, seg.floor_z, seg.top_z, seg.wall_distance);
+  // Measured on the lattice the segments were described on: the cells holding the voxels.
+  const VoxelGrid& lattice = *seg.feature_grid;
+  std::vector<uint32_t> cells;
+  cells.reserve(voxels.size());
+  for (uint32_t v : voxels) {
+    const auto c = grid.Cell(v);
+    const auto l = lattice.CellOf(grid.CellCenter(c[0], c[1], c[2]));
+    if (lattice.Contains(l[0], l[1], l[2])) cells.push_back(uint32_t(lattice.Index(l[0], l[1], l[2])));
+  }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  if (cells.empty()) return {};
+  return Describe(lattice, cells, seg.floor_z, seg.top_z, seg.feature_wall_distance);
 }
 
 }  // namespace semvox

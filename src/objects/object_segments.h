@@ -29,6 +29,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -99,13 +100,22 @@ struct SegmentationResult {
   // What the features are measured against: per (x, y) column (x fastest), the distance to the nearest wall
   // column in metres; the floor height and the ceiling (or the scan's top).
   std::vector<float> wall_distance;
-  // Per (x, y) column (x fastest): 1 where the column is wall only because the wall columns were grown by
-  // wall_dilation_cells (the wall's margin: a noisy wall's surface, or the back of what stands against it).
-  std::vector<uint8_t> wall_margin;
+  // When the grid is finer than kSegmentCellM: the lattice the segments were found and described on (a cell
+  // occupied where any voxel of the grid is; SegmentObjects) and its columns' wall distance; null otherwise.
+  std::shared_ptr<const VoxelGrid> feature_grid;
+  std::vector<float> feature_wall_distance;
   double floor_z = 0, top_z = 0;
 };
 
-// Structure, segments and their features. Deterministic (segments in ascending order of first voxel).
+// The size of the cells segments are found and described on (metres): the object-segment models are trained on
+// 5 cm voxels, and the features (shares and counts of cells, layers, thicknesses) follow the cell size.
+inline constexpr double kSegmentCellM = 0.05;
+
+// Structure, segments and their features. Deterministic (segments in ascending order of first voxel). On a grid
+// finer than kSegmentCellM the segmentation runs on the lattice of kSegmentCellM cells holding the grid's voxels
+// (OctoMap keys at that size; a cell is occupied when any of its voxels is, else free when any is) and every
+// voxel takes the structure and segment of its cell: the same segments and features as a map at kSegmentCellM
+// would give, whatever the voxel size. Coarser grids are segmented as they are.
 SegmentationResult SegmentObjects(const VoxelGrid& grid, double floor_z, double ceiling_z, bool ceiling_found,
                                   const SegmentOptions& options);
 

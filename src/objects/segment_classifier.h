@@ -74,29 +74,4 @@ class SegmentClassifier {
 // `table` is out of range, or `min_top_m` <= 0).
 bool LowCounterToTable(double top_surface_m, int counter, int table, double min_top_m, std::vector<double>* p);
 
-// A sofa's back and arms stand beside its seat and above it; a bed has no sofa seat beside it and below it. The
-// shape classifier reads a broad back-and-arms band (the ScanNet studio's sectional: 3.8 x 2.8 m around its seat)
-// as a bed, while the seat beside it is plainly sofa. Every segment whose most probable class (in `p`, one vector
-// per segment of `segments`) is `bed` and which touches (26 neighbours in `grid`) a segment whose most probable
-// class is `sofa` with a probability of at least `min_seat_probability`, its top surface more than `min_rise_m`
-// above that seat's, gives its bed probability to sofa, down to the smallest probability in its vector. The
-// classes are read before any change. Returns the indices of the segments changed, ascending.
-// What stands how high: seats, beds, tables, desks, counters and sinks are used from the floor, so their top
-// surface (kSegTopSurface) lies under a height no object of the class exceeds (ClassTopLimits in the pipeline:
-// chairs and sofas 1.2 m, tables and counters 1.4 m, beds 1.6 m). The shape classifier still calls table or
-// counter what is shaped like one by its other features and far higher (on the ScanNet studio a corner wardrobe's
-// top at 2.3 m, table; a front beside the refrigerator at 1.7 m, counter). When the most probable class in `p` is
-// one whose limit (in `limits`) `top_surface_m` exceeds, every class so excluded keeps only the smallest
-// probability in `p` (the classifier's floor); what they held goes to the classes not excluded, in proportion to
-// their probabilities, so that `p` keeps its sum. Returns whether anything moved (false when the most probable
-// class is within its limit or has none, or every class with more than the floor is excluded).
-struct ClassTopLimit {
-  int cls;           // Class index in `p`; out of range: ignored.
-  double max_top_m;  // Metres above the floor.
-};
-bool HighTopsToOtherClasses(double top_surface_m, std::span<const ClassTopLimit> limits, std::vector<double>* p);
-
-std::vector<size_t> SofaBacksBesideSeats(const VoxelGrid& grid, const std::vector<ObjectSegment>& segments, int bed, int sofa,
-                                         double min_seat_probability, double min_rise_m, std::vector<std::vector<double>>* p);
-
 }  // namespace semvox

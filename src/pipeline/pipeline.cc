@@ -130,11 +130,6 @@ Status RoomsStage(const std::string& models_dir, PipelineResult* r) {
   r->room_types = std::move(typed).value();
   // What rooms.png holds (split-off areas with their new ids).
   AssignRooms(r->room_types->result.rooms.room_extent_ids, r->map.grid, &r->labels->map);
-  if (config.semantic.room_context) {
-    const size_t n = ApplyRoomContext(*r->room_types, r->map.grid, &r->labels->map);
-    r->room_types->context_relabelled = n;
-    if (n > 0) SEMVOX_INFO("room context: " << n << " shower-curtain voxels outside bathrooms relabelled curtain");
-  }
   if (config.semantic.bar_tables) ApplyBarTables(r->map, r->evidence->segmentation.get(), &*r->labels);
   return Status::Ok();
 }
@@ -250,18 +245,7 @@ Result<PipelineResult> RunPipeline(const std::string& input, const PipelineOptio
     if (config.semantic.other_labels && r.models->other)
       ApplyOtherLabels(map, *r.evidence, r.models->crf, *r.models->other, kOtherMinVoxels, &*r.labels);
     if (config.semantic.item_labels && r.models->items) ApplyItemLabels(map, *r.evidence, *r.models->items, kOtherMinVoxels, &*r.labels);
-    if (config.semantic.refrigerator_wood_chroma > 0)
-      ApplyRefrigeratorColour(map, config.semantic.refrigerator_wood_chroma, &*r.labels);
     if (config.semantic.wall_openings) ApplyWallOpenings(map, WallOpeningOptions{}, &*r.labels);
-    if (config.semantic.wall_openings && config.semantic.doors_in_doorways)
-      ApplyDoorsInDoorways(map, r.evidence->segmentation.get(), &*r.labels);
-    if (config.semantic.tall_object_walls) ApplyTallObjectWalls(*r.evidence, r.models->crf, &*r.labels);
-    if (config.semantic.wooden_wall_units) ApplyWoodenWallUnits(map, &*r.labels);
-    if (config.semantic.hung_wall_cabinets) ApplyHungWallCabinets(map, &*r.labels);
-    if (config.semantic.wall_margin && r.evidence->segmentation)
-      ApplyWallMargin(map, *r.evidence->segmentation, config.semantic.wall_margin_min_neighbours, &*r.labels);
-    if (config.semantic.wall_colour)
-      ApplyWallColour(map, config.semantic.wall_colour_min_distance, config.semantic.wall_colour_rings, &*r.labels);
     if (config.semantic.furniture_feet) ApplyFurnitureFeet(map, &*r.labels);
     clock.AddTo(&r.seconds, "voxel_crf");
     progress.End();

@@ -11,62 +11,6 @@
 
 namespace semvox {
 
-namespace {
-
-// Every cell of `ids` that is no room (0) takes the room of the nearest room cell within `reach` 4-connected
-// steps (breadth first from all room cells at once); cells farther away stay 0.
-ImageU16 NearestRoomWithin(const ImageU16& ids, int reach) {
-  ImageU16 nearest = ids;
-  std::vector<std::pair<int, int>> frontier, next;
-  for (int y = 0; y < ids.height; ++y)
-    for (int x = 0; x < ids.width; ++x)
-      if (ids.at(x, y) > 0) frontier.push_back({x, y});
-  for (int step = 0; step < reach && !frontier.empty(); ++step) {
-    next.clear();
-    for (const auto& [x, y] : frontier)
-      for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
-        const int xx = x + dx, yy = y + dy;
-        if (xx < 0 || yy < 0 || xx >= ids.width || yy >= ids.height || nearest.at(xx, yy) > 0) continue;
-        nearest.at(xx, yy) = nearest.at(x, y);
-        next.push_back({xx, yy});
-      }
-    frontier.swap(next);
-  }
-  return nearest;
-}
-
-}  // namespace
-
-size_t ApplyRoomContext(const RoomTypesStageResult& typed, const VoxelGrid& grid, SemanticMap* map, double reach_m) {
-  static const int bathroom = RoomTypeIdByName("bathroom");
-  std::vector<int> type;  // Room id -> type id.
-  for (const RoomTypeAssignment& a : typed.result.assignments) {
-    if (a.id >= int(type.size())) type.resize(size_t(a.id) + 1, 0);
-    type[size_t(a.id)] = a.type_id;
-  }
-  // Voxels outside every room look up the nearest room, on the room image when one of them is a shower curtain.
-  const bool outside = std::any_of(map->occupied.begin(), map->occupied.end(), [](const SemanticVoxelRecord& r) {
-    return r.label == nyu40::kShowerCurtain && r.room <= 0;
-  });
-  const ImageU16 nearest =
-      outside ? NearestRoomWithin(typed.result.rooms.room_extent_ids, int(std::floor(reach_m / grid.resolution() + 1e-9))) : ImageU16();
-  size_t changed = 0;
-  for (SemanticVoxelRecord& r : map->occupied) {
-    if (r.label != nyu40::kShowerCurtain) continue;
-    int room = r.room;
-    if (room <= 0) {
-      const auto c = grid.Cell(r.voxel);
-      const int row = grid.dims()[1] - 1 - c[1];
-      if (c[0] >= 0 && c[0] < nearest.width && row >= 0 && row < nearest.height) room = nearest.at(c[0], row);
-    }
-    const int t = room > 0 && room < int(type.size()) ? type[size_t(room)] : 0;
-    if (t == 0 || t == bathroom) continue;
-    r.label = nyu40::kCurtain;
-    ++changed;
-  }
-  return changed;
-}
-
 Result<RoomTypesStageResult> TypeRooms(const FloorPlan& plan, const RoomSegmentation& rooms, const std::vector<ViewRoomEvidence>& views,
                                        const Image<uint16_t>& topview_labels, const RoomTypeCrfOptions& options,
                                        double max_enclosed_unknown_m2) {
@@ -128,7 +72,6 @@ nlohmann::ordered_json RoomTypesSummaryJson(const RoomTypesStageResult& typed) {
   j["fixture_absence_weight"] = options.fixture_absence_weight;
   j["views"] = typed.views;
   j["splits"] = result.splits;
-  j["room_context"] = {{"shower_curtains_relabelled_curtain", typed.context_relabelled}};
   j["seconds"] = std::round(result.seconds * 1e3) / 1e3;
   j["rooms"] = nlohmann::ordered_json::array();
   for (const RoomDescription& d : typed.described)

@@ -36,17 +36,8 @@ struct RoomTypesStageResult {
   RoomTypeCrfOptions options;               // As given (model paths, variant, shape weight).
   bool shapes_used = false;                 // The room-shape model was read.
   size_t views = 0;                         // Views of evidence.
-  size_t context_relabelled = 0;            // Voxels ApplyRoomContext relabelled (summary: room_context).
 };
 
-// Room context for the labels: shower-curtain voxels (NYU40 28) whose room is typed other than bathroom
-// become curtain (16). A shower curtain is shaped as a curtain; the shape classifiers learn it from
-// bathrooms, and a drawn curtain at a window comes out shower curtain. A voxel's room is
-// SemanticVoxelRecord::room (as AssignRooms set it from typed.result.rooms.room_extent_ids on `grid`'s
-// columns); a voxel outside every room (tall furniture is no room cell) takes the room of the nearest room
-// cell within `reach_m` (4-connected steps on that image). Untyped rooms and voxels with no room in reach keep
-// their label. Returns the voxels relabelled.
-size_t ApplyRoomContext(const RoomTypesStageResult& typed, const VoxelGrid& grid, SemanticMap* map, double reach_m = 1.0);
 
 // After the CRF, unseen pockets of at most `max_enclosed_unknown_m2` that one room encloses join it, with its
 // type (JoinEnclosedUnknown; 0 = none).

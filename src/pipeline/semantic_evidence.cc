@@ -340,32 +340,6 @@ SemanticEvidence SemanticEvidenceBuilder::Finish() && {
   for (size_t i = 0; i < seg.segments.size(); ++i)
     if (LowCounterToTable(seg.segments[i].features[kSegTopSurface], counter, table, s.options.counter_min_top_m, &p[i]))
       ++s.out.low_counter_segments, s.out.low_counter_voxels += int64_t(seg.segments[i].voxels.size());
-  // What stands how high (metres above the floor): above every object of the class in the world (bar stools'
-  // seats about 0.8 m, bar tables and counters 1.05-1.1 m, standing desks 1.25 m, a bunk's upper mattress about
-  // 1.5 m) and every generated training segment's (table 1.32 m, counter 1.27 m, chair 0.97 m, bed 0.67 m).
-  if (s.options.high_tops) {
-    constexpr std::pair<int, double> kTopLimits[] = {
-        {nyu40::kChair, 1.2}, {nyu40::kSofa, 1.2},    {nyu40::kToilet, 1.2}, {nyu40::kBathtub, 1.2}, {nyu40::kNightStand, 1.2},
-        {nyu40::kTable, 1.4}, {nyu40::kDesk, 1.4},    {nyu40::kCounter, 1.4}, {nyu40::kSink, 1.4},  {nyu40::kBed, 1.6}};
-    std::vector<ClassTopLimit> limits;
-    for (const auto& [id, max_top_m] : kTopLimits) {
-      const int cls = s.models->level.class_of_nyu40[size_t(id)];
-      if (cls < 0) continue;
-      // Classes that hold several of these ids (coarser levels) keep the highest limit.
-      auto it = std::find_if(limits.begin(), limits.end(), [&](const ClassTopLimit& l) { return l.cls == cls; });
-      if (it == limits.end()) limits.push_back({cls, max_top_m});
-      else it->max_top_m = std::max(it->max_top_m, max_top_m);
-    }
-    for (size_t i = 0; i < seg.segments.size(); ++i)
-      if (HighTopsToOtherClasses(seg.segments[i].features[kSegTopSurface], limits, &p[i]))
-        ++s.out.high_top_segments, s.out.high_top_voxels += int64_t(seg.segments[i].voxels.size());
-  }
-  // A sofa's back and arms beside its seat, above it, are sofa, not bed.
-  constexpr double kMinSeatProbability = 0.9, kMinBackRiseM = 0.15;
-  if (s.options.sofa_backs)
-    for (size_t i : SofaBacksBesideSeats(s.map->grid, seg.segments, s.models->level.class_of_nyu40[size_t(nyu40::kBed)],
-                                         s.models->level.class_of_nyu40[size_t(nyu40::kSofa)], kMinSeatProbability, kMinBackRiseM, &p))
-      ++s.out.sofa_back_segments, s.out.sofa_back_voxels += int64_t(seg.segments[i].voxels.size());
   s.out.familiar_distance = s.models->segments->familiar_distance();
   const bool knows_familiarity = std::isfinite(s.out.familiar_distance);
   if (knows_familiarity) s.out.unfamiliar_segment_voxels = 0, s.out.unfamiliar_segments = 0;

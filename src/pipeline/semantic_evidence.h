@@ -77,13 +77,6 @@ struct SemanticEvidence {
   // (SemanticStageOptions::counter_min_top_m, LowCounterToTable), and their voxels.
   int low_counter_segments = 0;
   int64_t low_counter_voxels = 0;
-  // Segments read as a sofa's back beside its seat (SemanticStageOptions::sofa_backs), and their voxels.
-  int sofa_back_segments = 0;
-  int64_t sofa_back_voxels = 0;
-  // Segments whose top surface stands above some class's limit (SemanticStageOptions::high_tops,
-  // HighTopsToOtherClasses), and their voxels.
-  int high_top_segments = 0;
-  int64_t high_top_voxels = 0;
   // Views whose room-type descriptor was measured against the training views (RoomTypeProbabilities), those
   // farther than the familiar distance, and the sum of the weights their room evidence kept
   // (1 - DiscountUnfamiliarRoomView; 1 each with SemanticStageOptions::room_view_familiarity off).

@@ -100,21 +100,6 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
                                     : nlohmann::ordered_json("no model");
   if (options.floor_surface) j["floor_surface"] = {{"relabelled_voxels", labels.floor_surface_voxels}};
   if (options.furniture_feet) j["furniture_feet"] = {{"relabelled_voxels", labels.furniture_feet_voxels}};
-  if (options.wall_margin) j["wall_margin"] = {{"relabelled_voxels", labels.wall_margin_voxels}};
-  if (options.wall_colour)
-    j["wall_colour"] = {{"relabelled_voxels", labels.wall_colour_voxels},
-                        {"walls_rgb", {labels.wall_colour[0], labels.wall_colour[1], labels.wall_colour[2]}}};
-  if (options.refrigerator_wood_chroma > 0)
-    j["refrigerator_colour"] = {{"wood_min_chroma", options.refrigerator_wood_chroma},
-                                {"relabelled_voxels", labels.refrigerator_colour_voxels}};
-  if (options.wall_openings && options.doors_in_doorways)
-    j["doors_in_doorways"] = {{"segments", labels.doorless_segments}, {"relabelled_voxels", labels.doorless_voxels}};
-  if (options.tall_object_walls && evidence.num_segments >= 0)
-    j["tall_object_walls"] = {{"segments", labels.tall_object_wall_segments}, {"relabelled_voxels", labels.tall_object_wall_voxels}};
-  if (options.wooden_wall_units)
-    j["wooden_wall_units"] = {{"components", labels.wall_unit_components}, {"relabelled_voxels", labels.wall_unit_voxels}};
-  if (options.hung_wall_cabinets)
-    j["hung_wall_cabinets"] = {{"components", labels.hung_wall_components}, {"relabelled_voxels", labels.hung_wall_voxels}};
   if (options.bar_tables && evidence.num_segments >= 0)
     j["bar_tables"] = {{"segments", labels.bar_table_segments}, {"relabelled_voxels", labels.bar_table_voxels}};
   if (options.counter_min_top_m > 0 && evidence.num_segments >= 0)
@@ -125,10 +110,6 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
                                  {"unfamiliar_views", evidence.room_views_unfamiliar},
                                  {"discounted", options.room_view_familiarity},
                                  {"mean_weight", evidence.room_view_weight_sum / double(evidence.room_views_measured)}};
-  if (options.high_tops && evidence.num_segments >= 0)
-    j["high_tops"] = {{"segments", evidence.high_top_segments}, {"voxels", evidence.high_top_voxels}};
-  if (options.sofa_backs && evidence.num_segments >= 0)
-    j["sofa_backs"] = {{"segments", evidence.sofa_back_segments}, {"voxels", evidence.sofa_back_voxels}};
   j["occupied_voxels"] = labels.map.occupied.size();
   j["completed_voxels"] = labels.map.completed_count();
   nlohmann::ordered_json hist = nlohmann::ordered_json::object();

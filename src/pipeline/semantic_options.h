@@ -67,9 +67,6 @@ struct SemanticStageOptions {
   // a sink on a counter) gets its own NYU40 id when its shape says it is an object of its own
   // (objects/other_labels.h, models/item_labels.knn), after the "other" labels.
   bool item_labels = true;
-  // After the rooms are typed, shower-curtain voxels in a room not typed bathroom become curtain: a shower
-  // curtain's shape is a curtain's, only its room tells them apart (pipeline/room_types_stage.h).
-  bool room_context = true;
   // The floor is a surface: floor voxels wholly above it (their bottom floor_surface_margin_m or more above the
   // floor) take the label of what stands above or beside them, after the Voxel-CRF (pipeline/semantic_solve.h).
   bool floor_surface = true;
@@ -77,37 +74,6 @@ struct SemanticStageOptions {
   // takes the label of the object voxel right above it (pipeline/semantic_solve.h, ApplyFurnitureFeet).
   bool furniture_feet = true;
   double floor_surface_margin_m = 0.03;
-  // The walls' margin: wall voxels in the columns the object segmentation added to the walls (a cell around
-  // every wall) take the label of at least wall_margin_min_neighbours of their neighbours that are neither wall,
-  // floor nor ceiling, after the doors and windows (pipeline/semantic_solve.h).
-  bool wall_margin = true;
-  int wall_margin_min_neighbours = 2;
-  // The walls' colour: wall voxels whose colour lies at least wall_colour_min_distance (RGB) from the walls'
-  // median colour and closer to an object neighbour's take that neighbour's label, over wall_colour_rings rings,
-  // after the walls' margin (pipeline/semantic_solve.h, ApplyWallColour).
-  bool wall_colour = true;
-  double wall_colour_min_distance = 40;
-  int wall_colour_rings = 1;
-  // A refrigerator is no wooden box: voxels labelled refrigerator whose neighbourhood's median colour is wood's
-  // (hue 10-50 degrees) with a chroma (red - blue) of refrigerator_wood_chroma or more are a cabinet of its shape,
-  // after the items (pipeline/semantic_solve.h, ApplyRefrigeratorColour). 0: off.
-  int refrigerator_wood_chroma = 60;
-  // A door's leaf stands in its doorway: after the doors and windows, the door voxels of an object segment far from
-  // every door found take curtain (a thin panel) or cabinet (a tall box) (pipeline/semantic_solve.h,
-  // ApplyDoorsInDoorways).
-  bool doors_in_doorways = true;
-  // Tall furniture is no wall: after the doors and windows, the wall voxels of an object segment whose top surface
-  // lies 1.5 m or more above the floor and 0.3 m or more under the ceiling, and whose most probable class by shape
-  // is an object (probability 0.5 or more), take that class (pipeline/semantic_solve.h, ApplyTallObjectWalls).
-  bool tall_object_walls = true;
-  // Wooden wall units are cabinets: after the tall objects, a hung part of the wall labels (bottom 1.0 m or more above
-  // the floor, at most 1.3 m tall, 50 voxels or more) in wood's colour and another colour than the wall around it,
-  // on no door's or window's span, is a cabinet (pipeline/semantic_solve.h, ApplyWoodenWallUnits).
-  bool wooden_wall_units = true;
-  // A wall stands on the floor; a wall cabinet hangs: after the wooden wall units, a part of the wall labels over
-  // 0.4 m of free space, its bottom 1.0-1.8 m above the floor, at most 1.3 m tall, 50 voxels or more, on no door's
-  // or window's span, is a cabinet (pipeline/semantic_solve.h, ApplyHungWallCabinets).
-  bool hung_wall_cabinets = true;
   // A bar is a table by name and a counter by use: after the room types, the counter voxels of an object segment
   // whose top surface lies 1.0 m or more above the floor and whose footprint's centre lies 0.6 m or more from every
   // wall take table (pipeline/semantic_solve.h, ApplyBarTables).
@@ -116,14 +82,6 @@ struct SemanticStageOptions {
   // (metres above the floor) is no counter, and the segment classifier's counter probability goes to table
   // before the Voxel-CRF (objects/segment_classifier.h, LowCounterToTable). 0: off.
   double counter_min_top_m = 0.75;
-  // A sofa's back beside its seat: an object segment the shape classifier calls bed that touches a segment it
-  // calls sofa (probability >= 0.9) and whose top surface lies more than 0.15 m above that seat's gives its bed
-  // probability to sofa before the Voxel-CRF (objects/segment_classifier.h, SofaBacksBesideSeats).
-  bool sofa_backs = true;
-  // What stands how high: an object segment whose top surface lies above every chair's, sofa's, bed's, table's,
-  // desk's, counter's or sink's of the world gives those classes' probability to the others before the
-  // Voxel-CRF (objects/segment_classifier.h, HighTopsToOtherClasses; the limits in pipeline/semantic_evidence.cc).
-  bool high_tops = true;
   // Views unlike the training views say less about their room: a view whose room-type descriptor lies beyond the
   // training views' familiar distance has its room-type distribution mixed with the uniform one, fully at twice
   // that distance (perception/room_evidence.h, DiscountUnfamiliarRoomView).
@@ -165,9 +123,6 @@ struct SemanticStageOptions {
                          "after the Voxel-CRF, what lies on an object segment above its top surface (a pillow on a bed, "
                          "books on a table, a sink on a counter) gets its own NYU40 id when its shape says it is an "
                          "object of its own (models/item_labels.knn); off: it keeps the furniture's label"),
-            OptionSwitch(&O::room_context, "room_context",
-                         "after the room types, shower-curtain voxels in a room not typed bathroom become curtain "
-                         "(the two differ by their room, not their shape); off: the Voxel-CRF's label stays"),
             OptionSwitch(&O::floor_surface, "floor_surface",
                          "after the Voxel-CRF, floor voxels lying wholly above the floor's surface (the bottoms of walls "
                          "and furniture) take the label of the voxel above them or of most of their neighbours; off: "
@@ -178,47 +133,6 @@ struct SemanticStageOptions {
                          "label: the foot of the furniture standing there; off: the labels stay"),
             OptionNumber(&O::floor_surface_margin_m, "floor_surface_margin_m", 0, 0.5, "metres",
                          "how far above the floor a voxel's bottom must lie for floor_surface (the floor's scan noise)"),
-            OptionSwitch(&O::wall_margin, "wall_margin",
-                         "after the doors and windows, wall voxels in the cell the object segmentation adds around every "
-                         "wall (the back of a sofa, a toilet or a door frame standing against it) take the label most of "
-                         "their neighbours that are not wall, floor or ceiling carry; off: the Voxel-CRF's label stays"),
-            OptionNumber(&O::wall_margin_min_neighbours, "wall_margin_min_neighbours", 1, 26, "voxels",
-                         "how many of a margin voxel's 26 neighbours must carry that label for wall_margin"),
-            OptionSwitch(&O::wall_colour, "wall_colour",
-                         "after the walls' margin, a voxel labelled wall whose colour lies wall_colour_min_distance or "
-                         "more from the walls' median colour, and closer to that of a neighbour labelled as an object, "
-                         "takes that neighbour's label (a wooden wardrobe's front, a window's frame, a toilet's back "
-                         "in the wall band); off: the label stays wall"),
-            OptionNumber(&O::wall_colour_min_distance, "wall_colour_min_distance", 0, 442, "RGB units",
-                         "how far (Euclidean, 0-255 per channel) a wall voxel's colour must lie from the walls' median "
-                         "colour for wall_colour"),
-            OptionNumber(&O::wall_colour_rings, "wall_colour_rings", 0, 20, "voxels",
-                         "how many voxels deep an object's colour spreads into the wall band for wall_colour"),
-            OptionNumber(&O::refrigerator_wood_chroma, "refrigerator_wood_chroma", 0, 255, "RGB units",
-                         "after the items, a voxel labelled refrigerator whose colour (the median over it and its "
-                         "neighbours labelled refrigerator) is wood's, red >= green >= blue with a hue of 10-50 degrees "
-                         "and a chroma (red - blue) of this or more, is a cabinet of its shape (a wooden pantry unit, "
-                         "tall cabinet or the cabinet over the refrigerator): refrigerators are no wooden boxes; 0: off"),
-            OptionSwitch(&O::doors_in_doorways, "doors_in_doorways",
-                         "after the doors and windows, when doors were found in the walls, the voxels labelled door of an "
-                         "object segment that lie farther from every door found than its width + 0.3 m are no leaf: a "
-                         "segment up to 0.35 m thick (a panel hung along a wall) takes curtain, a thicker one (a tall "
-                         "box) cabinet; off: the labels stay"),
-            OptionSwitch(&O::tall_object_walls, "tall_object_walls",
-                         "after the doors and windows, the voxels labelled wall of an object segment whose top surface "
-                         "lies 1.5 m or more above the floor and 0.3 m or more under the ceiling (or the scan's top), and "
-                         "whose most probable class by shape is an object with a probability of 0.5 or more, take that "
-                         "class: a wardrobe's or tall cabinet's front is no wall; off: the labels stay"),
-            OptionSwitch(&O::wooden_wall_units, "wooden_wall_units",
-                         "after the tall objects, a part of the voxels labelled wall in wood's colour (hue 10-50 degrees, "
-                         "chroma 60 or more) that hangs on the wall (its bottom 1.0 m or more above the floor, at most "
-                         "1.3 m tall, 50 voxels or more), lies on no door's or window's span and differs from the wall "
-                         "around it by 30 or more (RGB) is a cabinet: wooden wall units; off: the labels stay"),
-            OptionSwitch(&O::hung_wall_cabinets, "hung_wall_cabinets",
-                         "after the wooden wall units, a part of the voxels labelled wall that hangs over 0.4 m of free "
-                         "space (its bottom 1.0-1.8 m above the floor, at most 1.3 m tall, 50 voxels or more) and lies on "
-                         "no door's or window's span is a cabinet: a wall stands on the floor, a wall cabinet hangs; "
-                         "off: the labels stay"),
             OptionSwitch(&O::bar_tables, "bar_tables",
                          "after the room types (which read it as kitchen furniture), the voxels labelled counter of an "
                          "object segment whose top surface lies 1.0 m or more above the floor and whose footprint's "
@@ -228,14 +142,6 @@ struct SemanticStageOptions {
                          "an object segment whose top surface lies lower than this above the floor is no counter: the "
                          "segment classifier's counter probability goes to table before the Voxel-CRF (kitchen counters "
                          "stand 0.85-0.95 m, bathroom vanities from about 0.76 m); 0: off"),
-            OptionSwitch(&O::sofa_backs, "sofa_backs",
-                         "before the Voxel-CRF, an object segment the shape classifier calls bed that touches a segment it "
-                         "calls sofa (probability 0.9 or more) and stands more than 0.15 m higher is that sofa's back and "
-                         "arms: its bed probability goes to sofa; off: the classifier's probabilities stay"),
-            OptionSwitch(&O::high_tops, "high_tops",
-                         "before the Voxel-CRF, an object segment whose top surface stands higher than any chair's or "
-                         "sofa's (1.2 m), table's, desk's, counter's or sink's (1.4 m) or bed's (1.6 m) is none of them: "
-                         "their probability goes to the other classes; off: the classifier's probabilities stay"),
             OptionSwitch(&O::room_view_familiarity, "room_view_familiarity",
                          "a view whose room-type descriptor lies farther from the training views than they lie from "
                          "each other (their 0.99-quantile) says less about its room: its room-type distribution mixes "

@@ -23,114 +23,39 @@
 namespace semvox {
 namespace {
 
-// ---- Floors (measured on the current models in the comment) ----
-// Measured 2026-12-03 with the point-cloud Voxel-CRF weights (models/voxel_crf_cloud.txt), the object
-// segments, and the voxels holding scan points kept occupied (semantic.keep_scan_points); before that
-// setting in brackets.
-constexpr double kMinFloorRecall = 0.95;    // Floor band labelled floor; measured 0.971 with furniture's feet (2026-12-07:
-                                            // the floor's upper layer under furniture outside every box; 0.959 with the
-                                            // segment model of seeds 110-209), 0.991 (2026-12-06), 0.978 (0.985) before.
-constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.281 with wooden wall units
-                                            // (2026-12-07), 0.291 with tall furniture no wall
-                                            // (2026-12-07), 0.317 with the walls' colour
-                                            // (2026-12-06), 0.354 with the walls' margin
-                                            // (2026-12-06), 0.375 before, 0.431 (0.546).
-constexpr double kMinMeanBoxRecall = 0.55;  // Mean over boxes holding voxels; measured 0.602 with hung wall cabinets
-                                            // (semantic.hung_wall_cabinets, 2026-12-07; 0.408 with the segment model of
-                                            // seeds 110-209: a retrained segment model is measured here first), 0.583
-                                            // with furniture's feet
-                                            // (semantic.furniture_feet, 2026-12-07; 0.388 with the segment model of seeds
-                                            // 110-209), 0.565 with bars as tables (semantic.bar_tables, 2026-12-07),
-                                            // 0.535 with wooden wall units
-                                            // (semantic.wooden_wall_units, 2026-12-07; 0.365 with the segment model of
-                                            // seeds 110-209), 0.511 with tall furniture no
-                                            // wall (semantic.tall_object_walls, 2026-12-07; 0.339 with the segment model
-                                            // of seeds 110-209), 0.490 with doors in their
-                                            // doorways (semantic.doors_in_doorways, 2026-12-07; 0.336 with the segment
-                                            // model of seeds 110-209), 0.464 with refrigerators by
-                                            // their colour (semantic.refrigerator_wood_chroma, 2026-12-07; 0.318 with the
-                                            // segment model of seeds 110-209), 0.402 with the walls' colour
-                                            // (semantic.wall_colour, 2026-12-06; 0.286 with the segment model of seeds
-                                            // 110-209), 0.376 with classes no higher than
-                                            // their objects stand (semantic.high_tops, 2026-12-06), 0.359 with sofa backs beside their
-                                            // seats (semantic.sofa_backs, 2026-12-06), 0.338 with counters at counter
-                                            // height (semantic.counter_min_top_m), 0.300 with the walls'
-                                            // margin (semantic.wall_margin), 0.287 (the segment
-                                            // model retrained on varied toilets), 0.258 (on sectional sofas), 0.256 (the floor as a
-                                            // surface), 0.249 (fronts seen over
-                                            // the top, curtains by their room), 0.233 before, 0.222 with the doors and
-                                            // windows found in the walls (2026-12-05; 0.199 before the window pane
-                                            // cut from unrecorded glass and the deeper pane voxels), 0.134 without,
-                                            // 0.106 before.
-constexpr int kMinRooms = 3;                // Rooms in rooms.geojson; measured 3: living room 28.2 m², kitchen 10.1 m²,
-                                            // bathroom 4.0 m² (2026-12-06, the walls' colour); living room 27.8 m², kitchen 10.5 m²,
-                                            // bathroom 4.0 m² (2026-12-06, unfamiliar views discounted); living
-                                            // room 33.1 m², kitchen 5.2 m², bathroom 4.0 m² (2026-12-06, counters at counter height); living room
-                                            // 28.6 m², kitchen 9.6 m², the bathroom 4.0 m² (2026-12-05) (typed kitchen until 2026-12-06,
-                                            // bathroom since thin parts give no neighbour rise); 2 before.
+// ---- Floors (measured on the current models in the comment; history in docs/experiments.md) ----
+// Measured 2026-12-08 with the shipped models, after the steps chosen on the studio alone were removed (they
+// failed the real-scan rule of docs/metrics.md, "The real-scan bench"; 0.602 with them).
+constexpr double kMinFloorRecall = 0.95;    // Floor band labelled floor; measured 0.972.
+constexpr double kMaxWallShare = 0.50;      // Occupied voxels labelled wall; measured 0.373.
+constexpr double kMinMeanBoxRecall = 0.33;  // Mean over boxes holding voxels; measured 0.358.
+constexpr int kMinRooms = 3;                // Rooms in rooms.geojson; measured 3: living room 29.4 m², kitchen 8.9 m²,
+                                            // bathroom 4.0 m².
 constexpr double kMinUnfamiliarShare = 0.3;  // Object segment voxels unlike every training segment; measured 0.50.
 constexpr double kMinUnfamiliarViewShare = 0.35;  // Classified pixels unlike every training view; measured 0.47.
 constexpr double kMaxBathroomArea = 6.0;    // The room holding the toilet box's centre, m²; measured 4.0.
-// Per-class recall floors (gt.json class names; voxels pooled over the class's boxes).
+// Per-class recall floors (gt.json class names; voxels pooled over the class's boxes), a few points under the
+// value measured.
 const std::map<std::string, double> kMinClassRecall = {
-    {"bed", 0.60},          // measured 0.794 (0.537)
-    {"cabinet", 0.50},      // measured 0.701 with hung wall cabinets (2026-12-07: the bedroom's wall cabinet), 0.669
-                            // with wooden wall units (2026-12-07: the wall units over the counter),
-                            // 0.605 with tall furniture no wall (2026-12-07: the corner wardrobe's front;
-                            // 0.253 with the segment model of seeds 110-209, which calls it otherfurniture), 0.402 with
-                            // doors in their doorways (2026-12-07: the tall cabinet called door;
-                            // 0.237 with the segment model of seeds 110-209), 0.300 with refrigerators by their colour (2026-12-07: the wooden tall cabinet
-                            // and the cabinet over the refrigerator; 0.144 with the segment model of seeds 110-209),
-                            // 0.115 with the walls' colour, 0.103 with the segment model retrained on varied toilets (2026-12-06), 0.065 with the
-                            // one of earlier that day (the kitchen's base cabinets), 0.002 before
-    {"counter", 0.15},      // measured 0.226 with the segment model retrained on varied toilets (2026-12-06; 0.340 with the
-                            // same code trained on seeds 110-209), 0.395 with the one before, 0.432 (0.216)
-    {"curtain", 0.20},      // measured 0.339 with doors in their doorways (2026-12-07: the drawn curtain's panel
-                            // called door; 0.324 with the segment model of seeds 110-209), 0.191 with the walls'
-                            // colour, 0.179 since shower curtains outside bathrooms are curtains (2026-12-06), 0.000
-                            // before
-    {"desk", 0.0},          // measured 0.364 since segments below counter height are no counters (2026-12-06; 0.026 with
-                            // the segment model of seeds 110-209, which calls the desk cabinet and sofa), 0.002 before
-                            // (table voxels count)
-    {"door", 0.50},         // measured 0.634 with the walls' margin, 0.622 with the doors found in the walls
-                            // (semantic.wall_openings), 0.163 without
-    {"garbagebin", 0.0},    // measured 0.173 with the segment model retrained on varied toilets (2026-12-06; 0 with the same
-                            // code trained on seeds 110-209), 0.022 before
-    {"refrigerator", 0.10}, // measured 0.610 with refrigerators by their colour (2026-12-07), 0.677 since classes
-                            // stand no higher than their objects (2026-12-06: the
-                            // refrigerator's front, top surface 1.7 m, was counter; 0.029 with the segment model of
-                            // seeds 110-209, which gives it door), 0.165 with the segment model retrained on varied toilets (2026-12-06; 0.083 with the
-                            // same code trained on seeds 110-209: the fridge's segments flip between refrigerator,
-                            // shower curtain and door with the training draw), 0.462 with the one before,
-                            // 0.458 with the segment model retrained on fronts seen over the top (2026-12-06), 0.347
-                            // with the one of earlier that day, 0.771 with the one of 2026-12-02 (0.880)
+    {"bed", 0.80},          // measured 0.867
+    {"cabinet", 0.05},      // measured 0.103: the wardrobe's front and the wall units lie in the wall columns
+    {"counter", 0.15},      // measured 0.226
+    {"curtain", 0.0},       // measured 0.000: the drawn curtain comes out shower curtain
+    {"desk", 0.25},         // measured 0.352 (segments below counter height are no counters)
+    {"door", 0.50},         // measured 0.623 (doors found in the walls)
+    {"garbagebin", 0.0},    // measured 0.221
+    {"refrigerator", 0.10}, // measured 0.167
     {"sink", 0.0},          // measured 0.000
-    {"sofa", 0.50},         // measured 0.777 since a sofa's back beside its seat is sofa (2026-12-06, semantic.sofa_backs;
-                            // 0.77 with the segment model of seeds 110-209, whose back was sofa already), 0.235 with the segment model retrained on varied toilets (2026-12-06), 0.229 on
-                            // sectional sofas (0.769 and 0.776 with the same code trained on seeds 110-209), 0.171 (0.297)
-    {"table", 0.40},        // measured 0.859 with bars as tables and furniture's feet (2026-12-07: the bar; 0.774 with
-                            // the segment model of seeds 110-209), 0.165 since segments below counter height are
-                            // no counters (2026-12-06: the low
-                            // table by the curtain), 0.090 (0.055; desk voxels count)
-    {"toilet", 0.40},       // measured 0.664 with the walls' margin (2026-12-06), 0.551 with the segment model
-                            // retrained on varied toilets (2026-12-06; 0.569 with the
-                            // same code trained on seeds 110-209), 0.082 since thin parts give no neighbour rise
-                            // (2026-12-06), 0.000 before
-    {"window", 0.40},       // measured 0.627 with the walls' colour (2026-12-06), 0.477 with the walls' margin (2026-12-06: the reveals beside the panes), 0.393
-                            // with the windows found in the walls (0.262 before the pane cut from
-                            // unrecorded glass), 0.046 without
+    {"sofa", 0.15},         // measured 0.237
+    {"table", 0.70},        // measured 0.816 (the bar and the low table)
+    {"toilet", 0.50},       // measured 0.604
+    {"window", 0.30},       // measured 0.390 (windows found in the walls)
 };
 
 const std::string kDataDir = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/scannet_scene0000_00";
 const std::string kSunDir = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/sunrgbd_000017";
 // One real RGB-D view of a bedroom (SUN RGB-D 000017, 50,000 points, two yawed boxes in gt_boxes.tsv).
-// Measured 2026-12-06: bed 0.436 (0.000 before the frame fix: the view was taken for upside down and left
-// 2 degrees tilted, and the bed came out sofa and chair), night stand 0.000, floor 0.998, wall share 0.348;
-// 0.402 with the segment model retrained on upholstered sofas the same day (wall share 0.322); 0.423 since the
-// floor is a surface (floor recall 0.976: the noisy floor's top layer beside the bed takes the bed's label);
-// 0.660 with the segment model retrained on sectional sofas (2026-12-06), 0.425 with the one retrained on varied
-// toilets the same day (0.422 with the same code trained on seeds 110-209); 0.435 since furniture stands on the floor
-// (2026-12-07; floor recall 0.976 -> 0.954: the floor's upper layer under the bed's edge takes the bed's label).
+// Measured 2026-12-08: bed 0.434 (its pillows, inside its box, are labelled pillow), night stand 0.000, floor 0.955.
 constexpr double kMinSunBedRecall = 0.30;
 constexpr double kMinSunFloorRecall = 0.95;
 
@@ -186,41 +111,16 @@ TEST(RealScan, StudioBoxScoresAboveTheStatedFloors) {
   // Segments below counter height are no counters (semantic.counter_min_top_m): the desk and the low table are
   // among them (measured 7 segments, 15,518 voxels).
   EXPECT_GE(summary["semantic"]["low_counters"]["segments"].get<int>(), 2);
-  // The sectional's back-and-arms band, called bed by its shape, stands above the sofa seat beside it
-  // (semantic.sofa_backs; measured 1 segment, 5,679 voxels).
-  EXPECT_GE(summary["semantic"]["sofa_backs"]["segments"].get<int>(), 1);
-  // A corner wardrobe (top 2.3 m) called table, and fronts at 1.7-1.9 m called counter, stand higher than any
-  // table or counter (semantic.high_tops; measured 3 segments, 5,414 voxels).
-  EXPECT_GE(summary["semantic"]["high_tops"]["segments"].get<int>(), 2);
-  // The room-type descriptors of nearly all its views lie beyond the training views' familiar distance, and their
-  // room evidence is discounted (semantic.room_view_familiarity; measured 45 of 45 views, mean weight 0.09;
-  // generated randomised scans: see docs/rooms.md).
-  // Window frames, door leaves, the toilet's back and the wall units' fronts in the wall band take their objects'
-  // labels by colour (semantic.wall_colour; measured 2,594 voxels, walls' colour (138, 126, 102)).
-  EXPECT_GE(summary["semantic"]["wall_colour"]["relabelled_voxels"].get<int>(), 500);
-  // A wooden tall cabinet, shaped like a refrigerator and called one, and the wooden cabinet over the refrigerator
-  // are cabinets by their colour (semantic.refrigerator_wood_chroma; measured 1,815 voxels).
-  EXPECT_GE(summary["semantic"]["refrigerator_colour"]["relabelled_voxels"].get<int>(), 500);
-  // The tall cabinet in the bedroom corner and a panel of the drawn curtain, called door by their shape, stand far
-  // from both doors found in the walls (semantic.doors_in_doorways; measured 6 segments, 2,915 voxels).
-  EXPECT_GE(summary["semantic"]["doors_in_doorways"]["relabelled_voxels"].get<int>(), 1000);
-  // The corner wardrobe's front (top 2.3 m), in object segments the shape classifier calls cabinet, came out wall
-  // from the Voxel-CRF (semantic.tall_object_walls; measured 4 segments, 1,924 voxels).
-  EXPECT_GE(summary["semantic"]["tall_object_walls"]["relabelled_voxels"].get<int>(), 1000);
-  // The oak wall units over the kitchen counter hang in the wall columns, in another colour than the beige wall
-  // around them (semantic.wooden_wall_units; measured 2 parts, 685 voxels).
-  EXPECT_GE(summary["semantic"]["wooden_wall_units"]["relabelled_voxels"].get<int>(), 300);
-  // The bedroom's dark wall cabinet, the colour of the shaded wall beside it, hangs over free space
-  // (semantic.hung_wall_cabinets; measured 1 part, 380 voxels).
-  EXPECT_EQ(summary["semantic"]["hung_wall_cabinets"]["components"].get<int>(), 1);
-  EXPECT_GE(summary["semantic"]["hung_wall_cabinets"]["relabelled_voxels"].get<int>(), 200);
   // The kitchen's bar (top 1.1 m, 1.0 m from every wall), called counter, is a table by name once the rooms have read
-  // it as kitchen furniture (semantic.bar_tables; measured 1 segment, 3,628 voxels).
-  EXPECT_EQ(summary["semantic"]["bar_tables"]["segments"].get<int>(), 1);
+  // it as kitchen furniture (semantic.bar_tables; measured 2 segments, 4,015 voxels).
+  EXPECT_GE(summary["semantic"]["bar_tables"]["segments"].get<int>(), 1);
   EXPECT_GE(summary["semantic"]["bar_tables"]["relabelled_voxels"].get<int>(), 2000);
   // The floor's upper layer under the bed, the sofa, the tables and the cabinets holds their feet
   // (semantic.furniture_feet; measured 1,065 voxels).
   EXPECT_GE(summary["semantic"]["furniture_feet"]["relabelled_voxels"].get<int>(), 500);
+  // The room-type descriptors of nearly all its views lie beyond the training views' familiar distance, and their
+  // room evidence is discounted (semantic.room_view_familiarity; measured 45 of 45 views, mean weight 0.09;
+  // generated randomised scans: see docs/rooms.md).
   const auto& room_views = summary["semantic"]["room_view_appearance"];
   EXPECT_GE(room_views["unfamiliar_views"].get<int>(), int(0.8 * room_views["views"].get<int>()));
   EXPECT_LE(room_views["mean_weight"].get<double>(), 0.3);
@@ -329,6 +229,63 @@ TEST(RealScan, SunRgbdBedroomViewBedIsBed) {
   EXPECT_GE(floor, kMinSunFloorRecall);
 }
 
+// The SUN RGB-D view at 2.5 cm voxels: its object segments are found and described on the 5 cm lattice, so they
+// look like the training segments as at 5 cm. Measured 2026-12-08: bed 0.595, unfamiliar segment voxels 0.25
+// (before the lattice: bed 0.000, no wall column found, every segment unfamiliar).
+TEST(RealScan, SunRgbdBedroomViewAtFineVoxelsKeepsItsBed) {
+#ifdef SEMVOX_SANITIZE_BUILD
+  GTEST_SKIP() << "too slow under sanitizers";
+#endif
+  const std::string scan = kSunDir + "/000017_points.ply", gt = kSunDir + "/gt_boxes.tsv";
+  if (!std::filesystem::exists(scan) || !std::filesystem::exists(gt)) GTEST_SKIP() << kSunDir << " not found";
+  testing::ScratchDir dir("real_sun_fine");
+  const std::string out = dir.File("out"), log = dir.File("log.txt"), report = dir.File("eval_boxes.json");
+  testing::WriteText(dir.File("fine.yaml"), "mapping:\n  voxel_size_m: 0.025\n");
+  ASSERT_EQ(RunSemvox("run " + scan + " -o " + out + " --config " + dir.File("fine.yaml"), log), 0) << testing::ReadText(log);
+  ASSERT_EQ(RunSemvox("eval --pred " + out + " --boxes " + gt + " -o " + report + " -q", log), 0) << testing::ReadText(log);
+  std::ifstream in(report), summary_in(out + "/summary.json");
+  const nlohmann::json e = nlohmann::json::parse(in), summary = nlohmann::json::parse(summary_in);
+  const double bed = e["per_class"]["bed"]["recall"].value("value", 0.0);
+  const double unfamiliar = summary["semantic"]["object_segment_shapes"]["unfamiliar_share"].get<double>();
+  std::printf("SUN RGB-D 000017 at 2.5 cm: bed recall %.3f (>= 0.45), unfamiliar segment voxels %.3f (<= 0.6)\n", bed, unfamiliar);
+  EXPECT_GE(bed, 0.45);
+  EXPECT_LE(unfamiliar, 0.6);
+}
+
+// The S3DIS office room (320,917 points, no colour, a NYU40 label per point) end to end, scored per point:
+// each labelled point takes the label of the nearest voxel within 7.5 cm (`semvox eval --points`). Skipped when
+// absent. Measured 2026-12-08: point accuracy 0.254, mean class recall 0.386, floor recall 0.981, every point matched;
+// the chairs, tables and bookcases of an office are mostly wrong (no office furniture in the generator).
+const std::string kS3disDir = std::string(SEMVOX_SOURCE_DIR) + "/../shared/data/s3dis_office_room";
+constexpr double kMinS3disAccuracy = 0.22;
+constexpr double kMinS3disFloorRecall = 0.95;
+constexpr double kMinS3disMatched = 0.95;  // Points with a voxel within 7.5 cm: the map covers the scan.
+
+TEST(RealScan, S3disOfficeRoomPointScoresAboveTheStatedFloors) {
+#ifdef SEMVOX_SANITIZE_BUILD
+  GTEST_SKIP() << "too slow under sanitizers";
+#endif
+  const std::string scan = kS3disDir + "/office_room.ply";
+  if (!std::filesystem::exists(scan)) GTEST_SKIP() << kS3disDir << " not found";
+  testing::ScratchDir dir("real_s3dis");
+  const std::string out = dir.File("out"), log = dir.File("log.txt"), report = dir.File("eval_points.json");
+  ASSERT_EQ(RunSemvox("run " + scan + " -o " + out, log), 0) << testing::ReadText(log);
+  ASSERT_EQ(RunSemvox("eval --pred " + out + " --points " + scan + " -o " + report + " -q", log), 0) << testing::ReadText(log);
+  std::printf("%s", testing::ReadText(log).c_str());
+  std::ifstream in(report);
+  const nlohmann::json e = nlohmann::json::parse(in);
+  const double accuracy = e["accuracy"]["value"].get<double>(), floor = e["floor_recall"]["value"].get<double>(),
+               matched = e["matched"]["value"].get<double>();
+  std::printf("S3DIS office room: point accuracy %.3f (>= %.2f), floor recall %.3f (>= %.2f), matched %.3f (>= %.2f)\n", accuracy,
+              kMinS3disAccuracy, floor, kMinS3disFloorRecall, matched, kMinS3disMatched);
+  EXPECT_GE(accuracy, kMinS3disAccuracy);
+  EXPECT_GE(floor, kMinS3disFloorRecall);
+  EXPECT_GE(matched, kMinS3disMatched);
+  // A run never fails because a class is absent: the room has no colour and no clutter class, and every class of
+  // its ground truth is scored.
+  EXPECT_EQ(e["per_class"].size(), 11u);
+}
+
 // Bad input to `semvox eval --boxes`: one error line on stderr and exit code 2. Needs no data.
 TEST(RealScan, BoxEvalBadInputGivesOneErrorLineAndExitCode2) {
   testing::ScratchDir dir("real_scan_bad");
@@ -360,6 +317,9 @@ TEST(RealScan, BoxEvalBadInputGivesOneErrorLineAndExitCode2) {
   // Neither --gt nor --boxes; both.
   expect_error("eval --pred " + run, "--boxes");
   expect_error("eval --pred " + run + " --gt " + run + " --boxes " + dir.File("gt.json"), "excludes");
+  expect_error("eval --pred " + run + " --boxes " + dir.File("gt.json") + " --points " + dir.File("gt.json"), "excludes");
+  // Labelled points without a label property (voxels.ply itself, still unlabelled here).
+  expect_error("eval --pred " + run + " --points " + run + "/voxels.ply", "no label property");
   // With a label the same call succeeds and --json prints the report.
   PlyWriter ok;
   ok.AddElement("vertex", 2);
@@ -370,6 +330,10 @@ TEST(RealScan, BoxEvalBadInputGivesOneErrorLineAndExitCode2) {
   const nlohmann::json e = nlohmann::json::parse(testing::ReadText(log));
   EXPECT_DOUBLE_EQ(e["mean_box_recall"]["value"].get<double>(), 0.5);
   EXPECT_FALSE(e["rooms_present"]["present"].get<bool>());
+  // The run's own voxels as labelled points: every point finds itself.
+  ASSERT_EQ(RunSemvox("eval --pred " + run + " --points " + run + "/voxels.ply --json -q", log), 0) << testing::ReadText(log);
+  const nlohmann::json p = nlohmann::json::parse(testing::ReadText(log));
+  EXPECT_DOUBLE_EQ(p["accuracy"]["value"].get<double>(), 1.0);
 }
 
 }  // namespace

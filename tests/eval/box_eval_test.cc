@@ -144,7 +144,7 @@ TEST(BoxEval, WithoutTheRotationTheBoxesAreMissed) {
   Result<BoxGroundTruth> gt = ParseBoxGroundTruth(GroundTruthText(), "gt.json");
   ASSERT_TRUE(gt.ok());
   gt->axis_align = Eigen::Matrix4d::Identity();
-  const BoxEvalReport r = EvaluateBoxes(RunVoxels{centres, labels, 0.05}, *gt);
+  const BoxEvalReport r = EvaluateBoxes(RunVoxels{centres, labels, 0.05, {}}, *gt);
   EXPECT_EQ(r.boxes_scored, 0);
   EXPECT_FALSE(r.mean_box_recall.present);
 }

@@ -52,6 +52,47 @@ const ObjectSegment* SegmentAt(const SegmentationResult& r, const VoxelGrid& g, 
   return nullptr;
 }
 
+// The room at 2.5 cm: every 5 cm cell split into eight voxels of its state.
+VoxelGrid Halved(const VoxelGrid& g) {
+  const auto& o = g.origin_key();
+  const auto& d = g.dims();
+  VoxelGrid fine(g.resolution() / 2, {2 * o[0] - 32768, 2 * o[1] - 32768, 2 * o[2] - 32768}, {2 * d[0], 2 * d[1], 2 * d[2]});
+  for (size_t i = 0; i < fine.size(); ++i) {
+    const auto c = fine.Cell(i);
+    fine.set_state(i, g.state(g.Index(c[0] / 2, c[1] / 2, c[2] / 2)));
+  }
+  return fine;
+}
+
+// Segments do not depend on the voxel size: at 2.5 cm they are found and described on the 5 cm lattice, so the
+// room gives the same segments with the same features, each holding the eight voxels of each of its cells, and
+// every voxel the structure of its cell; DescribeVoxels measures a segment's voxels on the lattice too.
+TEST(ObjectSegments, AFinerGridGivesTheSameSegmentsAndFeatures) {
+  Room room;
+  const double floor_z = room.FloorZ();
+  const SegmentationResult coarse = SegmentObjects(room.grid, floor_z, floor_z + 2.5, false, SegmentOptions{});
+  const VoxelGrid fine_grid = Halved(room.grid);
+  const SegmentationResult fine = SegmentObjects(fine_grid, floor_z, floor_z + 2.5, false, SegmentOptions{});
+  ASSERT_TRUE(fine.feature_grid);
+  EXPECT_EQ(fine.feature_grid->dims(), room.grid.dims());
+  ASSERT_EQ(fine.segments.size(), coarse.segments.size());
+  for (size_t s = 0; s < coarse.segments.size(); ++s) {
+    EXPECT_EQ(fine.segments[s].features, coarse.segments[s].features) << s;
+    EXPECT_EQ(fine.segments[s].voxels.size(), 8 * coarse.segments[s].voxels.size()) << s;
+    EXPECT_TRUE(std::is_sorted(fine.segments[s].voxels.begin(), fine.segments[s].voxels.end()));
+    std::array<float, kNumSegmentFeatures> described = DescribeVoxels(fine_grid, fine.segments[s].voxels, fine);
+    std::array<float, kNumSegmentFeatures> want = coarse.segments[s].features;
+    want[kSegNeighbourRise] = 0;  // DescribeVoxels leaves it 0.
+    EXPECT_EQ(described, want) << s;
+  }
+  for (size_t i = 0; i < fine_grid.size(); i += 7) {
+    const auto c = fine_grid.Cell(i);
+    EXPECT_EQ(fine.structure[i], coarse.structure[room.grid.Index(c[0] / 2, c[1] / 2, c[2] / 2)]) << i;
+  }
+  EXPECT_EQ(fine.wall_distance[size_t(100) * size_t(fine_grid.dims()[0]) + 20],
+            coarse.wall_distance[size_t(50) * size_t(room.grid.dims()[0]) + 10]);
+}
+
 TEST(ObjectSegments, WallsAndFloorAreStructureAndFurnitureSegmentsHaveTheirShape) {
   Room room;
   const double floor_z = room.FloorZ();
@@ -61,12 +102,13 @@ TEST(ObjectSegments, WallsAndFloorAreStructureAndFurnitureSegmentsHaveTheirShape
   EXPECT_EQ(r.structure[room.grid.Index(50, 110, 30)], 3);  // north wall
   EXPECT_EQ(r.structure[room.grid.Index(50, 50, 0)], 1);    // floor
   // The wall columns are grown by a cell (wall_dilation_cells): the room's first column beside the west wall is
-  // the walls' margin, the wall's own column and the room's middle are not.
+  // wall (distance 0), the room's middle is not.
   const int columns_x = room.grid.dims()[0];
-  ASSERT_EQ(r.wall_margin.size(), size_t(columns_x) * size_t(room.grid.dims()[1]));
-  EXPECT_EQ(r.wall_margin[50 * size_t(columns_x) + 10], 1);
-  EXPECT_EQ(r.wall_margin[50 * size_t(columns_x) + 9], 0);
-  EXPECT_EQ(r.wall_margin[50 * size_t(columns_x) + 50], 0);
+  ASSERT_EQ(r.wall_distance.size(), size_t(columns_x) * size_t(room.grid.dims()[1]));
+  EXPECT_EQ(r.wall_distance[50 * size_t(columns_x) + 10], 0.f);
+  EXPECT_EQ(r.wall_distance[50 * size_t(columns_x) + 9], 0.f);
+  EXPECT_GT(r.wall_distance[50 * size_t(columns_x) + 50], 1.f);
+  EXPECT_FALSE(r.feature_grid) << "a 5 cm grid is segmented as it is";
   ASSERT_EQ(r.segments.size(), 3u);
   const ObjectSegment* bed = SegmentAt(r, room.grid, 40, 40, 5);
   const ObjectSegment* table = SegmentAt(r, room.grid, 100, 40, 14);

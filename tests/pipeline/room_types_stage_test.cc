@@ -152,51 +152,5 @@ TEST(RoomTypesStage, UnseenPocketJoinsTheRoomAroundItWithItsType) {
   fs::remove_all(dir);
 }
 
-// A shower curtain is shaped as a curtain: the room says which. Shower-curtain voxels in a room typed other
-// than bathroom become curtain; those in a bathroom, in an untyped room or with no room in reach keep their
-// label, and no other label changes. A voxel outside every room (tall furniture is no room cell) takes the
-// nearest room within reach.
-TEST(RoomTypesStage, ShowerCurtainsOutsideBathroomsBecomeCurtains) {
-  RoomTypesStageResult typed;
-  const int bathroom = RoomTypeIdByName("bathroom"), living = RoomTypeIdByName("living_room");
-  ASSERT_GT(bathroom, 0);
-  ASSERT_GT(living, 0);
-  typed.result.assignments.resize(3);
-  typed.result.assignments[0].id = 1, typed.result.assignments[0].type_id = living;
-  typed.result.assignments[1].id = 2, typed.result.assignments[1].type_id = bathroom;
-  typed.result.assignments[2].id = 3, typed.result.assignments[2].type_id = 0;
-  // A 1.0 x 0.4 m strip of 0.1 m columns: x 0-4 the living room, x 5-6 no room (a wardrobe), x 7-9 the bathroom.
-  const VoxelGrid grid(0.1, {32768, 32768, 32768}, {10, 4, 3});
-  ImageU16& ids = typed.result.rooms.room_extent_ids;
-  ids = ImageU16(10, 4, 1, 0);
-  for (int y = 0; y < 4; ++y)
-    for (int x = 0; x < 10; ++x) ids.at(x, y) = x < 5 ? 1 : x < 7 ? 0 : 2;
-  SemanticMap map;
-  const auto add = [&](uint16_t label, int room, int x) {
-    SemanticVoxelRecord r;
-    r.voxel = uint32_t(grid.Index(x, 1, 1));
-    r.centre = Eigen::Vector3f::Zero();
-    r.label = label;
-    r.room = room;
-    map.occupied.push_back(r);
-  };
-  add(nyu40::kShowerCurtain, 1, 2);   // living room: curtain
-  add(nyu40::kShowerCurtain, 2, 8);   // bathroom: stays
-  add(nyu40::kShowerCurtain, 3, 2);   // untyped room: stays
-  add(nyu40::kShowerCurtain, 7, 2);   // a room id the typing does not know: stays
-  add(nyu40::kShowerCurtain, -1, 5);  // outside every room, the living room nearest: curtain
-  add(nyu40::kShowerCurtain, -1, 6);  // outside every room, the bathroom nearest: stays
-  add(nyu40::kToilet, 1, 2);          // other labels: untouched
-  add(nyu40::kCurtain, 2, 8);
-  EXPECT_EQ(ApplyRoomContext(typed, grid, &map), 2u);
-  const uint16_t want[] = {nyu40::kCurtain,       nyu40::kShowerCurtain, nyu40::kShowerCurtain, nyu40::kShowerCurtain,
-                           nyu40::kCurtain,       nyu40::kShowerCurtain, nyu40::kToilet,        nyu40::kCurtain};
-  for (size_t i = 0; i < map.occupied.size(); ++i) EXPECT_EQ(map.occupied[i].label, want[i]) << i;
-  // With less than a cell of reach, no room is near the wardrobe.
-  map.occupied[4].label = nyu40::kShowerCurtain;
-  EXPECT_EQ(ApplyRoomContext(typed, grid, &map, 0.05), 0u);
-  EXPECT_EQ(map.occupied[4].label, nyu40::kShowerCurtain);
-}
-
 }  // namespace
 }  // namespace semvox
