@@ -116,15 +116,20 @@ for name, title in (("studio", "ScanNet studio (box recall)"), ("sun", "SUN RGB-
 seeds = sorted(n[len("randomised_"):-len(".eval.json")] for n in os.listdir(out)
                if n.startswith("randomised_") and n.endswith(".eval.json"))
 if seeds:
-    acc, mean_recall, sec = [], [], []
+    acc, mean_recall, sec, ece, auroc = [], [], [], [], []
     for s in seeds:
         e = load("randomised_" + s)
+        conf = e.get("f_confidence", {})
+        ece.append(val(conf.get("ece")))
+        auroc.append(val(conf.get("auroc")))
         acc.append(val(e["b_visible_voxels"]["accuracy"]))
         mean_recall.append(val(e["b_visible_voxels"]["mean_recall"]))
         sec.append(secs("randomised_" + s))
     a = sum(x for x in acc if x is not None) / len(acc)
     m = sum(x for x in mean_recall if x is not None) / len(mean_recall)
-    bench["randomised"] = {"seeds": seeds, "visible_accuracy": a, "visible_mean_recall": m, "seconds": sum(sec) / len(sec)}
+    mean = lambda v: sum(x for x in v if x is not None) / len([x for x in v if x is not None]) if any(x is not None for x in v) else None
+    bench["randomised"] = {"seeds": seeds, "visible_accuracy": a, "visible_mean_recall": m, "seconds": sum(sec) / len(sec),
+                           "ece": mean(ece), "auroc": mean(auroc)}
 print("%-30s %7s %7s %7s %7s %7s  %s" % ("scan", "score", "class", "floor", "wall", "s", "rooms"))
 for t, h, m, f, w, s, r in rows:
     print("%-30s %7s %7s %7s %7s %7.1f  %s" % (t, f3(h), f3(m), f3(f), f3(w), s, r))
@@ -138,7 +143,9 @@ if seeds:
                                            f3(r["visible_mean_recall"]), "", "", r["seconds"]))
 print("confidence (scored voxels or points): ECE / AUROC of right vs wrong")
 for name, sc in bench["scans"].items():
-    print("  %-7s %s / %s" % (name, f3(sc["ece"]), f3(sc["auroc"])))
+    print("  %-10s %s / %s" % (name, f3(sc["ece"]), f3(sc["auroc"])))
+if seeds:
+    print("  %-10s %s / %s (mean over its scans)" % ("randomised", f3(bench["randomised"]["ece"]), f3(bench["randomised"]["auroc"])))
 print("per-class recall:")
 for name, sc in bench["scans"].items():
     print("  %-7s %s" % (name, ", ".join("%s %s" % (k, f3(v)) for k, v in sorted(sc["per_class"].items()))))

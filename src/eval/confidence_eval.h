@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "eval/evaluate.h"
+#include "eval/score.h"
 
 namespace semvox {
 

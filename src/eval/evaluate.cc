@@ -368,7 +368,9 @@ Result<Mesh> ReadLabeledMesh(const std::string& path) {
 }
 
 // voxels.ply (issue: semantic voxel map) -> centres and labels.
-Status ReadPredictedVoxels(const std::string& path, std::vector<Eigen::Vector3f>* centres, std::vector<int>* labels) {
+// `confidence` receives the voxels' confidence when voxels.ply has one (else it stays empty).
+Status ReadPredictedVoxels(const std::string& path, std::vector<Eigen::Vector3f>* centres, std::vector<int>* labels,
+                           std::vector<float>* confidence) {
   Result<PlyData> ply = ReadPly(path);
   if (!ply.ok()) return ply.status();
   const PlyElement* v = ply->Find("vertex");
@@ -380,6 +382,7 @@ Status ReadPredictedVoxels(const std::string& path, std::vector<Eigen::Vector3f>
     centres->emplace_back(float(x->values[i]), float(y->values[i]), float(z->values[i]));
     labels->push_back(int(label->values[i]));
   }
+  if (const PlyProperty* c = v->Find("confidence")) confidence->assign(c->values.begin(), c->values.end());
   return Status::Ok();
 }
 
@@ -437,21 +440,34 @@ Result<EvalReport> Evaluate(const std::string& pred_dir, const std::string& gt_d
   if (exists("voxels.ply")) {
     std::vector<Eigen::Vector3f> centres;
     std::vector<int> labels;
-    SEMVOX_RETURN_IF_ERROR(ReadPredictedVoxels(path("voxels.ply"), &centres, &labels));
+    std::vector<float> confidence;
+    SEMVOX_RETURN_IF_ERROR(ReadPredictedVoxels(path("voxels.ply"), &centres, &labels, &confidence));
     pred_top = TopViewFromVoxels(centres, labels, gt.grid, gt.floor_z_m + gt.band_min_above_floor_m,
                                  gt.floor_z_m + gt.band_max_above_floor_m);
     Result<Mesh> mesh = ReadLabeledMesh(gt.gt_mesh);
     if (!mesh.ok()) return mesh.status();
     const VoxelLabels gt_voxels = VoxelizeLabeledMesh(*mesh, rep.voxel_size_m);
     VoxelLabels pred;
+    std::unordered_map<uint64_t, float> pred_confidence;
     for (size_t i = 0; i < centres.size(); ++i) {
       const Eigen::Vector3f& p = centres[i];
       const int64_t kx = CoordToKeyIndex(p.x(), rep.voxel_size_m), ky = CoordToKeyIndex(p.y(), rep.voxel_size_m),
                     kz = CoordToKeyIndex(p.z(), rep.voxel_size_m);
       if (!KeyIndexInRange(kx) || !KeyIndexInRange(ky) || !KeyIndexInRange(kz)) continue;
-      pred[VoxelKey{uint16_t(kx), uint16_t(ky), uint16_t(kz)}.Pack()] = labels[i];
+      const uint64_t key = VoxelKey{uint16_t(kx), uint16_t(ky), uint16_t(kz)}.Pack();
+      pred[key] = labels[i];
+      if (i < confidence.size()) pred_confidence[key] = confidence[i];
     }
     rep.voxels = ScoreVoxels(gt_voxels, pred);
+    // The visible voxels' confidence, in key order (the sums do not depend on it; the ranks' ties do not either).
+    std::vector<std::pair<uint64_t, int>> visible;
+    for (const auto& [key, g] : gt_voxels)
+      if (pred_confidence.count(key)) visible.emplace_back(key, g);
+    std::sort(visible.begin(), visible.end());
+    std::vector<float> conf;
+    std::vector<uint8_t> right;
+    for (const auto& [key, g] : visible) conf.push_back(pred_confidence.at(key)), right.push_back(pred.at(key) == g);
+    rep.confidence = ScoreConfidence(conf, right);
   } else {
     const Score none = Absent("voxels.ply not found");
     rep.voxels.accuracy = rep.voxels.mean_recall = rep.voxels.mean_iou = rep.voxels.nyu4_average = rep.voxels.nyu4_global = none;
@@ -554,6 +570,7 @@ std::string EvalReport::ToJson() const {
     for (const auto& [pt, count] : row) confusion[type_name(gt)][type_name(pt)] = count;
   j["e_room_types"] = {{"global", ScoreJson(room_types.global)}, {"average", ScoreJson(room_types.average)}, {"recall_per_type", per_type},
                        {"confusion_pixels", confusion}};
+  if (confidence.scored) j["f_confidence"] = ConfidenceJson(confidence);
   return j.dump(2) + "\n";
 }
 
@@ -585,6 +602,10 @@ std::string EvalReport::Table() const {
   row("(d) precision vs typed areas", rooms_typed.precision);
   row("(e) room-type accuracy (global)", room_types.global);
   row("(e) room-type accuracy (type mean)", room_types.average);
+  if (confidence.scored) {
+    os << "  (f) confidence of the visible voxels:\n";
+    os << ConfidenceTable(confidence);
+  }
   return os.str();
 }
 

@@ -25,15 +25,10 @@
 #include "core/status.h"
 #include "mapping/occupancy_map.h"
 #include "dataset/ground_truth.h"
+#include "eval/confidence_eval.h"
+#include "eval/score.h"
 
 namespace semvox {
-
-// A score that may be missing because its prediction file is.
-struct Score {
-  bool present = false;
-  double value = 0.0;  // Fraction in [0, 1].
-  std::string note;    // Why it is absent, or what it was computed on.
-};
 
 // One ground-truth class of a score: its pixels or voxels, how many got that label, and the labels most often
 // predicted there instead (-1 when none; ties to the lower id), for seeing which classes hold a class mean down.
@@ -87,6 +82,9 @@ struct EvalReport {
   RoomSegmentationScores rooms;        // Against spaces separated by walls (open-plan partners merged).
   RoomSegmentationScores rooms_typed;  // Against typed areas (an open-plan kitchen apart from the living room).
   RoomTypeScores room_types;
+  // The confidence of the visible voxels (right when their label is the ground truth's), when voxels.ply has a
+  // confidence (scored = 0 otherwise; eval/confidence_eval.h).
+  ConfidenceScores confidence;
   std::string ToJson() const;
   std::string Table() const;
 };

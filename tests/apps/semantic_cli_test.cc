@@ -72,6 +72,13 @@ TEST(SemanticCli, GeneratedApartmentIsLabelledAboveTheStatedFloors) {
   EXPECT_GE(geo, 0.85) << "top-view geometric accuracy";
   EXPECT_GE(visible, 0.60) << "visible-voxel accuracy (NYU40 ids)";
   EXPECT_GE(nyu4, 0.70) << "visible-voxel NYU-4 global accuracy";
+  // The confidence of the visible voxels is scored (eval/confidence_eval.h): its reliability bins hold them all.
+  const nlohmann::json& conf = e["f_confidence"];
+  size_t binned = 0;
+  for (const auto& b : conf["reliability"]) binned += b["count"].get<size_t>();
+  EXPECT_EQ(binned, conf["scored"].get<size_t>());
+  EXPECT_GT(conf["scored"].get<size_t>(), 1000u);
+  EXPECT_TRUE(conf["ece"]["present"].get<bool>());
   // Deterministic: a second run gives the same semantic outputs, byte for byte.
   const std::string out2 = dir.File("out2");
   ASSERT_EQ(RunSemvox("run " + gt + "/mesh.ply -o " + out2 + " --config " + std::string(SEMVOX_SOURCE_DIR) + "/tests/data/semantic.yaml", log), 0)
