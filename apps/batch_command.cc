@@ -127,7 +127,7 @@ Status RunBatch(const BatchArgs& args) {
     const fs::path out = fs::path(args.root) / job.name;
     if (fs::exists(out / "summary.json")) {
       job.status = "skipped";
-      SEMVOX_INFO("batch: " << job.name << " already complete, skipped");
+      SEMVOX_NOTE("batch: " << job.name << " already complete, skipped");
       return Status::Ok();
     }
     const std::string log = (fs::path(args.root) / "logs" / (job.name + ".log")).string();
@@ -175,14 +175,14 @@ Status RunBatch(const BatchArgs& args) {
       job.error = LastErrorLine((fs::path(args.root) / "logs" / (job.name + ".log")).string());
       if (job.error.empty()) job.error = "exit code " + std::to_string(job.exit_code);
     }
-    SEMVOX_INFO("batch: [" << done << "/" << jobs.size() << "] " << job.name << " " << job.status << " in "
+    SEMVOX_NOTE("batch: [" << done << "/" << jobs.size() << "] " << job.name << " " << job.status << " in "
                            << job.seconds << " s" << (job.error.empty() ? "" : ": " + job.error));
     SEMVOX_RETURN_IF_ERROR(WriteIndex(args.root, jobs));  // Kept current, so a killed batch leaves an index.
   }
   SEMVOX_RETURN_IF_ERROR(WriteIndex(args.root, jobs));
   size_t failed = 0;
   for (const Job& j : jobs) failed += j.status == "failed";
-  SEMVOX_INFO("batch: " << jobs.size() - failed << " of " << jobs.size() << " scans complete; index in " << args.root
+  SEMVOX_NOTE("batch: " << jobs.size() - failed << " of " << jobs.size() << " scans complete; index in " << args.root
                         << "/index.csv");
   if (failed > 0)
     return Status::Internal("batch: " + std::to_string(failed) + " of " + std::to_string(jobs.size()) +

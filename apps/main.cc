@@ -36,8 +36,9 @@ int main(int argc, char** argv) {
 
   CLI::App app{"semvox: scanned apartment -> labelled 3D voxel map with rooms"};
   app.require_subcommand(1);
-  bool quiet = false;
+  bool quiet = false, verbose = false;
   app.add_flag("-q,--quiet", quiet, "print warnings and errors only");
+  app.add_flag("-v,--verbose", verbose, "also print each step's detail (the default of every command but run and batch)");
 
   semvox::RunArgs run;
   run.argv0 = argc > 0 && argv[0] ? argv[0] : "";
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--models", run.models_dir, "directory of the model files (default: $SEMVOX_MODELS, else ../share/semvox/models "
                       "relative to the semvox binary, where `cmake --install` puts them)");
   run_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
+  run_cmd->add_flag("-v,--verbose", verbose, "also print each step's detail (counts, models, timings)");
 
   semvox::GenerateArgs gen;
   CLI::App* gen_cmd = app.add_subcommand("generate", "write a labelled synthetic apartment into OUTDIR");
@@ -220,7 +222,11 @@ int main(int argc, char** argv) {
                  app.get_subcommands().empty() ? "" : (app.get_subcommands()[0]->get_name() + " ").c_str());
     return 2;
   }
+  // `semvox run` and `batch` print their stages and a summary by default, each step's detail with -v; the other
+  // commands print what they do.
   if (quiet) semvox::SetLogLevel(semvox::LogLevel::kWarning);
+  else if (verbose) semvox::SetLogLevel(semvox::LogLevel::kInfo);
+  else if (*run_cmd || *batch_cmd) semvox::SetLogLevel(semvox::LogLevel::kNote);
 
   try {
     if (*run_cmd) {

@@ -1,4 +1,6 @@
-// Minimal leveled logging to stderr. Warnings and errors always print; info is silenced by --quiet.
+// Minimal leveled logging to stderr. Warnings and errors always print; notes (what a user of `semvox run` reads:
+// its summary) print unless --quiet; info (each step's detail) prints by default in the other commands and with
+// --verbose in `semvox run`.
 #pragma once
 
 #include <sstream>
@@ -7,7 +9,7 @@
 
 namespace semvox {
 
-enum class LogLevel { kDebug = 0, kInfo = 1, kWarning = 2, kError = 3 };
+enum class LogLevel { kDebug = 0, kInfo = 1, kNote = 2, kWarning = 3, kError = 4 };
 
 void SetLogLevel(LogLevel level);
 LogLevel GetLogLevel();
@@ -24,6 +26,7 @@ std::vector<std::string> TakeWarnings();
     }                                                             \
   } while (0)
 #define SEMVOX_INFO(expr) SEMVOX_LOG(kInfo, expr)
+#define SEMVOX_NOTE(expr) SEMVOX_LOG(kNote, expr)
 #define SEMVOX_WARN(expr) SEMVOX_LOG(kWarning, expr)
 
 }  // namespace semvox

@@ -153,7 +153,7 @@ Result<PipelineResult> RunPipeline(const std::string& input, const PipelineOptio
   SEMVOX_RETURN_IF_ERROR(CheckConfig(config));
   if (config.semantic.enabled && options.models_dir.empty())
     return Status::InvalidInput("the semantic stage needs a models directory (PipelineOptions::models_dir; hint: --models DIR)");
-  ProgressReporter progress(GetLogLevel() > LogLevel::kInfo ? ProgressMode::kQuiet : ProgressMode::kAuto);
+  ProgressReporter progress(GetLogLevel() > LogLevel::kNote ? ProgressMode::kQuiet : ProgressMode::kAuto);
 
   // ---- load ----
   StageClock clock;

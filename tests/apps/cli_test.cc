@@ -51,6 +51,28 @@ TEST(Cli, RunOnTheDemoSceneWritesEveryOutput) {
     EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
 }
 
+// `semvox run` prints its stages and a short summary by default; each step's detail only with -v; with -q nothing
+// but warnings and errors.
+TEST(Cli, RunIsQuietByDefaultAndDetailedWithVerbose) {
+  testing::ScratchDir dir("cli_verbosity");
+  const std::string run = "run " + std::string(SEMVOX_SOURCE_DIR) + "/scenes/demo_apartment.ply --config " +
+                          std::string(SEMVOX_SOURCE_DIR) + "/tests/data/fast.yaml -o ";
+  const Outcome plain = RunSemvox(run + dir.File("plain"), dir);
+  ASSERT_EQ(plain.exit_code, 0) << plain.stderr_text;
+  EXPECT_NE(plain.stderr_text.find("voxelize done in"), std::string::npos) << plain.stderr_text;
+  EXPECT_NE(plain.stderr_text.find("rooms: 3"), std::string::npos) << plain.stderr_text;
+  EXPECT_NE(plain.stderr_text.find("outputs in"), std::string::npos) << plain.stderr_text;
+  EXPECT_EQ(plain.stderr_text.find("voxelised at"), std::string::npos) << plain.stderr_text;
+  const Outcome verbose = RunSemvox(run + dir.File("verbose") + " -v", dir);
+  ASSERT_EQ(verbose.exit_code, 0) << verbose.stderr_text;
+  EXPECT_NE(verbose.stderr_text.find("voxelised at"), std::string::npos) << verbose.stderr_text;
+  EXPECT_NE(verbose.stderr_text.find("outputs in"), std::string::npos) << verbose.stderr_text;
+  const Outcome quiet = RunSemvox(run + dir.File("quiet") + " -q", dir);
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.stderr_text;
+  EXPECT_EQ(quiet.stderr_text.find("outputs in"), std::string::npos) << quiet.stderr_text;
+  EXPECT_EQ(quiet.stderr_text.find("done in"), std::string::npos) << quiet.stderr_text;
+}
+
 TEST(Cli, BadInputsGiveOneLineExitTwoAndNoOutputs) {
   testing::ScratchDir dir("cli_bad");
   testing::WriteText(dir.File("empty.ply"), "");
