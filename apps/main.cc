@@ -46,7 +46,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("input", run.input, "mesh (.ply .obj .gltf .glb .off .stl) or cloud (.ply .pcd .txt .xyz)")->required();
   run_cmd->add_option("-o,--output", run.outdir, "output directory")->required();
   run_cmd->add_option("--config", run.config_path, "YAML configuration (see `semvox config --dump`)");
-  run_cmd->add_option("--up", run.up, "up axis of the input: auto, z or y")->check(CLI::IsMember({"auto", "z", "y"}));
+  run_cmd->add_option("--up", run.up, "up axis of the input: auto, z, y, -y (a camera's frame, y down), x, -x, -z; write --up=-y")
+      ->check(CLI::IsMember({"auto", "z", "y", "-y", "x", "-x", "-z", "+z", "+y", "+x"}));
   run_cmd->add_option("--scale", run.scale, "multiply coordinates into metres (0.001 for mm)")->check(CLI::PositiveNumber);
   run_cmd->add_flag("--json", run.json, "print summary.json on stdout");
   run_cmd->add_option("--max-voxels", run.max_voxels, "refuse voxel grids larger than this (memory guard)")
@@ -169,7 +170,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--height", render.height, "image height, pixels")->check(CLI::Range(16, 8192));
   render_cmd->add_option("--voxel-size", render.voxel_size_m, "resolution of the per-pixel voxel keys, metres")->check(CLI::PositiveNumber);
   render_cmd->add_option("--config", render.config_path, "YAML configuration (render and input sections apply)");
-  render_cmd->add_option("--up", render.up, "up axis of the input: auto, z or y")->check(CLI::IsMember({"auto", "z", "y"}));
+  render_cmd->add_option("--up", render.up, "up axis of the input: auto, z, y, -y, x, -x, -z; write --up=-y")
+      ->check(CLI::IsMember({"auto", "z", "y", "-y", "x", "-x", "-z", "+z", "+y", "+x"}));
   render_cmd->add_option("--scale", render.scale, "multiply coordinates into metres")->check(CLI::PositiveNumber);
   render_cmd->add_flag("-q,--quiet", quiet, "print warnings and errors only");
 

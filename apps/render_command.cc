@@ -80,7 +80,8 @@ Status ParsePose(const std::string& text, Eigen::Vector3d* position, double* yaw
 Status RunRender(const RenderArgs& args) {
   PipelineConfig config;
   if (!args.config_path.empty()) SEMVOX_RETURN_IF_ERROR(LoadConfigFile(args.config_path, &config));
-  if (!args.up.empty()) config.load.up = args.up == "y" ? UpAxis::kY : args.up == "z" ? UpAxis::kZ : UpAxis::kAuto;
+  if (!args.up.empty() && !ParseUpAxis(args.up, &config.load.up))
+    return Status::InvalidInput("--up " + args.up + ": not an axis (hint: auto, z, y, -y, x, -x, -z)");
   if (args.scale > 0) config.load.scale = args.scale;
   if (args.horizontal_fov_deg > 0) config.render.horizontal_fov_deg = args.horizontal_fov_deg;
   if (args.width > 0) config.render.width = args.width;

@@ -90,7 +90,8 @@ Status RunRunCommand(const RunArgs& args) {
   PipelineOptions options;
   PipelineConfig& config = options.config;
   if (!args.config_path.empty()) SEMVOX_RETURN_IF_ERROR(LoadConfigFile(args.config_path, &config));
-  if (!args.up.empty()) config.load.up = args.up == "y" ? UpAxis::kY : args.up == "z" ? UpAxis::kZ : UpAxis::kAuto;
+  if (!args.up.empty() && !ParseUpAxis(args.up, &config.load.up))
+    return Status::InvalidInput("--up " + args.up + ": not an axis (hint: auto, z, y, -y, x, -x, -z)");
   if (args.scale > 0) config.load.scale = args.scale;
   if (args.max_voxels > 0) config.voxelize.max_voxels = size_t(args.max_voxels);
   SEMVOX_RETURN_IF_ERROR(CheckConfig(config));

@@ -87,23 +87,38 @@ size_t DropNonFiniteCloud(PointCloud* cloud) {
   return n - kept;
 }
 
-void Transform(Scene* scene, bool y_up, double scale) {
-  auto apply = [&](Eigen::Vector3f& p) {
-    if (y_up) p = Eigen::Vector3f(p.x(), -p.z(), p.y());  // Rotate +90 deg about X: +Y becomes +Z.
-    p *= float(scale);
-  };
-  for (auto& v : scene->mesh.vertices) apply(v);
-  for (auto& v : scene->cloud.points) apply(v);
-  if (y_up)
-    for (auto& n : scene->cloud.normals) n = Eigen::Vector3f(n.x(), -n.z(), n.y());
+// The rotation that takes the file's up axis to +Z (a proper rotation: handedness is kept).
+Eigen::Matrix3f UpToZ(UpAxis up) {
+  Eigen::Matrix3f r;
+  switch (up) {
+    case UpAxis::kY: r << 1, 0, 0, 0, 0, -1, 0, 1, 0; break;      // +90 deg about X: +Y -> +Z, +Z -> -Y.
+    case UpAxis::kNegY: r << 1, 0, 0, 0, 0, 1, 0, -1, 0; break;   // -90 deg about X: -Y -> +Z, +Z (forward) -> +Y.
+    case UpAxis::kX: r << 0, 0, -1, 0, 1, 0, 1, 0, 0; break;      // -90 deg about Y: +X -> +Z.
+    case UpAxis::kNegX: r << 0, 0, 1, 0, 1, 0, -1, 0, 0; break;   // +90 deg about Y: -X -> +Z.
+    case UpAxis::kNegZ: r << 1, 0, 0, 0, -1, 0, 0, 0, -1; break;  // 180 deg about X.
+    default: r.setIdentity();
+  }
+  return r;
+}
+
+void Transform(Scene* scene, UpAxis up, double scale) {
+  const Eigen::Matrix3f r = UpToZ(up);
+  for (auto& v : scene->mesh.vertices) v = float(scale) * (r * v);
+  for (auto& v : scene->cloud.points) v = float(scale) * (r * v);
+  if (!r.isIdentity())
+    for (auto& n : scene->cloud.normals) n = r * n;
 }
 
 }  // namespace
 
 bool ParseUpAxis(const std::string& name, UpAxis* up) {
   if (name == "auto") *up = UpAxis::kAuto;
-  else if (name == "z") *up = UpAxis::kZ;
-  else if (name == "y") *up = UpAxis::kY;
+  else if (name == "z" || name == "+z") *up = UpAxis::kZ;
+  else if (name == "y" || name == "+y") *up = UpAxis::kY;
+  else if (name == "-y") *up = UpAxis::kNegY;
+  else if (name == "x" || name == "+x") *up = UpAxis::kX;
+  else if (name == "-x") *up = UpAxis::kNegX;
+  else if (name == "-z") *up = UpAxis::kNegZ;
   else return false;
   return true;
 }
@@ -175,9 +190,10 @@ Result<Scene> LoadScene(const std::string& path, const LoadOptions& options) {
                                                     " valid " + (scene.is_mesh() ? "vertices" : "points") + ")",
                                           "check the export; NaN points are dropped"));
 
-  const bool y_up = options.up == UpAxis::kY || (options.up == UpAxis::kAuto && (ext == "gltf" || ext == "glb"));
-  if (y_up || options.scale != 1.0) Transform(&scene, y_up, options.scale);
-  if (y_up && options.up == UpAxis::kAuto) SEMVOX_INFO(path << ": glTF is +Y up by specification; converted to +Z up");
+  const bool gltf = options.up == UpAxis::kAuto && (ext == "gltf" || ext == "glb");
+  const UpAxis up = gltf ? UpAxis::kY : options.up;
+  if ((up != UpAxis::kAuto && up != UpAxis::kZ) || options.scale != 1.0) Transform(&scene, up, options.scale);
+  if (gltf) SEMVOX_INFO(path << ": glTF is +Y up by specification; converted to +Z up");
 
   // Units check on the robust extent (0.1% .. 99.9% quantiles of a subsample), so that a single stray
   // point does not look like millimetres; mapping trims such strays later.

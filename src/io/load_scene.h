@@ -10,8 +10,10 @@
 
 namespace semvox {
 
-enum class UpAxis { kAuto, kZ, kY };
-// "auto", "z", "y"; false for other names.
+// The file's up axis: auto (+Y for glTF, +Z otherwise) or one of the six axis directions; -y is a camera's frame
+// (x right, y down, z forward: PCL, OpenCV, Kinect and most SLAM tools).
+enum class UpAxis { kAuto, kZ, kY, kNegY, kX, kNegX, kNegZ };
+// "auto", "z", "y", "-y", "x", "-x", "-z" ("+z", "+y", "+x" too); false for other names.
 bool ParseUpAxis(const std::string& name, UpAxis* up);
 
 struct LoadOptions {
@@ -26,8 +28,10 @@ struct LoadOptions {
   static const OptionTable<LoadOptions>& Options() {
     using O = LoadOptions;
     static const OptionTable<O> table = {
-        OptionChoice(&O::up, "up", {"auto", "z", "y"}, ParseUpAxis,
-                     "up axis of the input file: auto (+Y for glTF, +Z otherwise), z or y"),
+        OptionChoice(&O::up, "up", {"auto", "z", "y", "-y", "x", "-x", "-z"}, ParseUpAxis,
+                     "up axis of the input file: auto (+Y for glTF, +Z otherwise), or the axis pointing up: z, y, -y "
+                     "(a camera's frame: x right, y down, z forward, as PCL, OpenCV and SLAM tools write), x, -x, -z; "
+                     "the file is turned so that it points to +Z"),
         OptionNumber(&O::scale, "scale", 1e-6, 1e6, "", "multiplies coordinates into metres (0.001 for mm)"),
         OptionSwitch(&O::canonical_frame, "canonical_frame",
                      "level the scan, turn its walls onto the x / y axes and put the floor at z = 0 before mapping "

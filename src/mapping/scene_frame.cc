@@ -307,7 +307,7 @@ SceneFrame EstimateSceneFrame(const Scene& scene, const SceneFrameOptions& o) {
   if (!any || plane_weight < o.min_plane_fraction * s.total) {
     f.warnings.push_back(name + ": no dominant horizontal plane within " + Fixed(o.max_level_deg, 0) +
                          " degrees of +Z (floor / ceiling); kept the input up axis. If the file is not +Z up, pass --up "
-                         "(e.g. --up y) or re-export it +Z up");
+                         "(e.g. --up y, or --up=-y for a camera's frame with y down) or re-export it +Z up");
   } else {
     f.up_found = true;
     f.upside_down = LooksUpsideDown(s, axis, o.horizontal_normal_deg * kDeg);
@@ -319,7 +319,7 @@ SceneFrame EstimateSceneFrame(const Scene& scene, const SceneFrameOptions& o) {
                            "); kept as loaded. Check --up, or flip the file so that +Z is up");
     } else if (f.tilt_deg > o.max_level_deg) {
       f.warnings.push_back(name + ": the floor is tilted by " + Fixed(f.tilt_deg, 1) + " degrees from +Z (more than " +
-                           Fixed(o.max_level_deg, 0) + "); kept the input up axis. Check --up (e.g. --up y)");
+                           Fixed(o.max_level_deg, 0) + "); kept the input up axis. Check --up (e.g. --up y, or --up=-y for a camera's frame)");
     } else if (f.tilt_deg >= o.snap_tilt_deg) {
       level = Eigen::Quaterniond::FromTwoVectors(f.up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
       f.levelled = true;

@@ -71,8 +71,8 @@ TEST(Config, ErrorsNameTheKeyAndTheRange) {
   EXPECT_NE(st.message().find("mapping.voxel_size_m = 3 is out of range [0.005, 1]"), std::string::npos) << st.message();
   st = ParseConfig("mapping:\n  enclosure_directions: 4.5\n", "c.yaml", &c);
   EXPECT_NE(st.message().find("must be an integer"), std::string::npos) << st.message();
-  st = ParseConfig("input:\n  up: x\n", "c.yaml", &c);
-  EXPECT_NE(st.message().find("Allowed: auto, z, y"), std::string::npos) << st.message();
+  st = ParseConfig("input:\n  up: w\n", "c.yaml", &c);
+  EXPECT_NE(st.message().find("Allowed: auto, z, y, -y, x, -x, -z"), std::string::npos) << st.message();
   st = ParseConfig("rendering:\n  a: 1\n", "c.yaml", &c);
   EXPECT_NE(st.message().find("unknown section 'rendering'"), std::string::npos) << st.message();
   st = ParseConfig("occupancy:\n  band_min_above_floor_m: 2\n", "c.yaml", &c);

@@ -119,11 +119,13 @@ TEST(Reliability, InterruptLeavesNoPartialOutputAndARerunCompletes) {
 
 // ---- The bad-input matrix ----
 
-void WriteRoom(const std::string& path, double scale, bool y_up, double offset) {
+// The demo apartment scaled and shifted; `y_up`: +Y up; `camera`: in a camera's frame (x right, y down, z forward).
+void WriteRoom(const std::string& path, double scale, bool y_up, double offset, bool camera = false) {
   Mesh m = BuildDemoApartment();
   for (auto& v : m.vertices) {
     Eigen::Vector3d p = v.cast<double>();
     if (y_up) p = Eigen::Vector3d(p.x(), p.z(), -p.y());
+    if (camera) p = Eigen::Vector3d(p.x(), -p.z(), p.y());
     v = (p * scale + Eigen::Vector3d::Constant(offset)).cast<float>();
   }
   ASSERT_TRUE(WriteMeshPly(path, m).ok());
@@ -177,6 +179,7 @@ TEST(Reliability, BadInputMatrix) {
   WriteRoom(dir.File("far.ply"), 1.0, false, 1e7);
   WriteRoom(dir.File("mm.ply"), 1000.0, false, 0.0);
   WriteRoom(dir.File("yup.ply"), 1.0, true, 0.0);
+  WriteRoom(dir.File("camera.ply"), 1.0, false, 0.0, true);
   {
     MeshBuilder walls;  // Four walls, no floor or ceiling.
     walls.AddBox({0, 0, 0}, {4, 0.1, 2.5}, Rgb8{}, FaceTags{}, 0, true);
@@ -223,6 +226,8 @@ TEST(Reliability, BadInputMatrix) {
       {"millimetre units", "run {D}/mm.ply -o {D}/out", 2, "--scale"},
       {"millimetre units with --scale", "run {D}/mm.ply --scale 0.001 -o {D}/out", 0, ""},
       {"Y-up with --up y", "run {D}/yup.ply --up y -o {D}/out", 0, ""},
+      {"camera frame (y down) with --up=-y", "run {D}/camera.ply --up=-y -o {D}/out", 0, ""},
+      {"unknown up axis", "run {DEMO} --up w -o {D}/out", 2, "--up"},
       {"read-only output location", "run {DEMO} -o /proc/semvox_out", 2, "/proc/semvox_out"},
       {"output path is a file", "run {DEMO} -o {D}/empty.ply", 2, "exists and is not a directory"},
       {"output inside the input's directory", "run {D}/scan_dir/scan.ply -o {D}/scan_dir/out", 0, ""},

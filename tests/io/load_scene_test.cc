@@ -201,6 +201,32 @@ TEST(LoadScene, UpAxisAndScale) {
   EXPECT_FALSE(LoadScene(dir.File("c.txt"), opt).ok());
 }
 
+// Every axis can be the file's up: the point on it lands on +Z, and the turn is a rotation (a right-handed frame
+// stays right-handed). A camera's frame (-y: x right, y down, z forward) keeps x and looks along +Y.
+TEST(LoadScene, AnyAxisCanBeUp) {
+  ScratchDir dir("any_axis");
+  WriteText(dir.File("c.txt"), "1 0 0\n0 1 0\n0 0 1\n-1 0 0\n0 -1 0\n0 0 -1\n");
+  const std::vector<std::pair<std::string, int>> axes = {{"z", 2}, {"+y", 1}, {"-y", 4}, {"x", 0}, {"-x", 3}, {"-z", 5}};
+  for (const auto& [name, row] : axes) {
+    LoadOptions opt;
+    ASSERT_TRUE(ParseUpAxis(name, &opt.up)) << name;
+    Result<Scene> s = LoadScene(dir.File("c.txt"), opt);
+    ASSERT_TRUE(s.ok()) << name;
+    const auto& p = s->cloud.points;
+    EXPECT_TRUE(p[size_t(row)].isApprox(Eigen::Vector3f(0, 0, 1))) << name << ": " << p[size_t(row)].transpose();
+    EXPECT_TRUE(p[0].cross(p[1]).isApprox(p[2])) << name << ": not a rotation";
+  }
+  LoadOptions camera;
+  ASSERT_TRUE(ParseUpAxis("-y", &camera.up));
+  Result<Scene> s = LoadScene(dir.File("c.txt"), camera);
+  ASSERT_TRUE(s.ok());
+  EXPECT_TRUE(s->cloud.points[0].isApprox(Eigen::Vector3f(1, 0, 0)));  // x stays right
+  EXPECT_TRUE(s->cloud.points[2].isApprox(Eigen::Vector3f(0, 1, 0)));  // forward becomes +Y
+  UpAxis up;
+  EXPECT_FALSE(ParseUpAxis("up", &up));
+  EXPECT_FALSE(ParseUpAxis("--y", &up));
+}
+
 TEST(LoadScene, BadInputsGiveOneClearError) {
   ScratchDir dir("bad");
   WriteText(dir.File("empty.ply"), "");
