@@ -284,11 +284,7 @@ std::string BoxEvalReport::Table() const {
   for (const auto& [name, c] : per_class)
     os << "    " << std::left << std::setw(14) << name << std::right << std::setw(10) << pct(c.recall) << "   (" << c.boxes << " boxes, "
        << c.voxels << " voxels)\n";
-  const auto row = [&](const char* name, const Score& s) {
-    os << "  " << std::left << std::setw(26) << name << std::right << std::setw(10) << pct(s);
-    if (!s.note.empty()) os << "   (" << s.note << ")";
-    os << "\n";
-  };
+  const auto row = [&](const char* name, const Score& s) { AppendScoreRow(os, name, s); };
   row("mean box recall", mean_box_recall);
   row("floor recall", floor_recall);
   row("wall share", wall_share);

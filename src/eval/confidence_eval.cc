@@ -79,11 +79,7 @@ ConfidenceScores ScoreConfidence(const std::vector<float>& confidence, const std
 
 std::string ConfidenceTable(const ConfidenceScores& s) {
   std::ostringstream os;
-  const auto row = [&](const char* name, const Score& v) {
-    os << "  " << std::left << std::setw(26) << name << std::right << std::setw(10) << PercentCell(v);
-    if (!v.note.empty()) os << "   (" << v.note << ")";
-    os << "\n";
-  };
+  const auto row = [&](const char* name, const Score& v) { AppendScoreRow(os, name, v); };
   row("confidence: mean", s.mean_confidence);
   row("confidence: ECE", s.ece);
   os << "  " << std::left << std::setw(26) << "confidence: AUROC" << std::right << std::setw(10);

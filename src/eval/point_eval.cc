@@ -199,11 +199,7 @@ std::string PointEvalReport::Table() const {
     for (const LabelCount& t : c.top) os << " " << (t.label ? LabelName(t.label) : "unmatched") << " (" << t.count << ")";
     os << "\n";
   }
-  const auto row = [&](const char* name, const Score& s) {
-    os << "  " << std::left << std::setw(26) << name << std::right << std::setw(10) << PercentCell(s);
-    if (!s.note.empty()) os << "   (" << s.note << ")";
-    os << "\n";
-  };
+  const auto row = [&](const char* name, const Score& s) { AppendScoreRow(os, name, s); };
   row("point accuracy", accuracy);
   row("mean class recall", mean_class_recall);
   row("matched", matched);

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -66,6 +67,15 @@ inline std::string PercentCell(const Score& s) {
   if (s.present) std::snprintf(buf, sizeof buf, "%6.1f %%", 100.0 * s.value);
   else std::snprintf(buf, sizeof buf, "%8s", "absent");
   return buf;
+}
+
+// One "name  value  (note)" line of the real-scan eval tables.
+inline void AppendScoreRow(std::ostream& os, const char* name, const Score& s) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "  %-26s%10s", name, PercentCell(s).c_str());
+  os << buf;
+  if (!s.note.empty()) os << "   (" << s.note << ")";
+  os << "\n";
 }
 
 }  // namespace semvox
