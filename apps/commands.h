@@ -23,6 +23,7 @@ struct RunArgs {
   bool json = false;           // Print summary.json on stdout.
   long long max_voxels = 0;    // > 0 overrides mapping.max_voxels.
   bool save_views = false;     // Also write PNG thumbnails of every view into OUTDIR/views/.
+  double min_confidence = -1;  // In [0, 1]: overrides semantic.min_confidence.
   std::string models_dir;      // Model files; empty: $SEMVOX_MODELS, else beside the binary (apps/models_dir.h).
   std::string argv0;           // The binary's argv[0]: finds the models when /proc/self/exe cannot be read.
   // Optional ONNX backend (pipeline/onnx_stage.h): networks, label maps and input sizes.

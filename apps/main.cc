@@ -53,6 +53,10 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--max-voxels", run.max_voxels, "refuse voxel grids larger than this (memory guard)")
       ->check(CLI::PositiveNumber);
   run_cmd->add_flag("--save-views", run.save_views, "write PNG thumbnails of every view into OUTDIR/views/");
+  run_cmd->add_option("--min-confidence", run.min_confidence,
+                      "labels under this confidence are written as 0 (unlabelled) to map.ot and the semantic top views; "
+                      "voxels.ply keeps them all (semantic.min_confidence)")
+      ->check(CLI::Range(0.0, 1.0));
   // Optional ONNX backend (pipeline/onnx_stage.h, docs/perception.md).
   run_cmd->add_option("--scene-model", run.onnx_paths.scene_model, "Places365-style scene network (.onnx) for the room-type evidence");
   run_cmd->add_option("--scene-labels", run.onnx_paths.scene_labels, "label map of --scene-model: NET_INDEX ROOM_TYPE lines");

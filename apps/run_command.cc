@@ -94,6 +94,7 @@ Status RunRunCommand(const RunArgs& args) {
     return Status::InvalidInput("--up " + args.up + ": not an axis (hint: auto, z, y, -y, x, -x, -z)");
   if (args.scale > 0) config.load.scale = args.scale;
   if (args.max_voxels > 0) config.voxelize.max_voxels = size_t(args.max_voxels);
+  if (args.min_confidence >= 0) config.semantic.min_confidence = args.min_confidence;
   SEMVOX_RETURN_IF_ERROR(CheckConfig(config));
   SEMVOX_RETURN_IF_ERROR(CheckOutputNotInput(args.input, args.outdir));
   // Only the semantic stage (and the support / clutter and room-type stages after it) reads models.

@@ -306,7 +306,8 @@ Status WritePipelineOutputs(const PipelineResult& result, const std::string& out
         const auto t0 = Clock::now();
         const double c0 = ThreadCpuSeconds();
         semantic_status = WriteSemanticExports(outdir, result.map, *result.labels, config.occupancy.band_min_above_floor_m,
-                                               config.occupancy.band_max_above_floor_m, result.occupancy.image, input_from_world);
+                                               config.occupancy.band_max_above_floor_m, result.occupancy.image, input_from_world,
+                                               config.semantic.min_confidence);
         if (semantic_status.ok() && result.objects) semantic_status = result.objects->Write(outdir, result.final_grid(), input_from_world);
         semantic_wall = Seconds(t0);
         semantic_cpu = ThreadCpuSeconds() - c0;

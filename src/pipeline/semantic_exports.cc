@@ -12,9 +12,18 @@ namespace semvox {
 namespace fs = std::filesystem;
 
 Status WriteSemanticExports(const std::string& outdir, const VoxelMap& map, const SemanticLabels& labels, double band_min_m,
-                            double band_max_m, const ImageRgb8& occupancy_image, const Eigen::Isometry3d& input_from_world) {
+                            double band_max_m, const ImageRgb8& occupancy_image, const Eigen::Isometry3d& input_from_world,
+                            double min_confidence) {
   const VoxelGrid& grid = map.grid;
   SEMVOX_RETURN_IF_ERROR(WriteVoxelsPly(labels.map, (fs::path(outdir) / "voxels.ply").string(), input_from_world));
+  // What the other exports show: the labels at or above the confidence floor, 0 under it.
+  SemanticMap floored;
+  if (min_confidence > 0) {
+    floored = labels.map;
+    for (SemanticVoxelRecord& r : floored.occupied)
+      if (r.confidence < min_confidence) r.label = 0;
+  }
+  const SemanticMap& shown = min_confidence > 0 ? floored : labels.map;
   // map.ot: every known voxel of the refined map; occupied ones with label and confidence.
   std::vector<SemanticVoxel> voxels;
   std::vector<int32_t> record(grid.size(), -1);
@@ -29,13 +38,14 @@ Status WriteSemanticExports(const std::string& outdir, const VoxelMap& map, cons
         SemanticVoxel v;
         v.key = grid.KeyOf(ix, iy, iz);
         v.occupied = st == VoxelState::kOccupied;
-        if (record[i] >= 0) v.label = labels.map.occupied[size_t(record[i])].label, v.confidence = labels.map.occupied[size_t(record[i])].confidence;
+        if (record[i] >= 0) v.label = shown.occupied[size_t(record[i])].label, v.confidence = shown.occupied[size_t(record[i])].confidence;
         voxels.push_back(v);
       }
   SEMVOX_RETURN_IF_ERROR(WriteSemanticOctree(voxels, grid.resolution(), (fs::path(outdir) / "map.ot").string()));
-  const ImageU16 top = SemanticTopView(labels.map, grid, map.floor_z, band_min_m, band_max_m);
+  const ImageU16 top = SemanticTopView(shown, grid, map.floor_z, band_min_m, band_max_m);
   SEMVOX_RETURN_IF_ERROR(WriteImage((fs::path(outdir) / "semantic_topview_labels.png").string(), top));
-  SEMVOX_RETURN_IF_ERROR(WriteImage((fs::path(outdir) / "semantic_topview.png").string(), ColourSemanticTopView(top, occupancy_image)));
+  SEMVOX_RETURN_IF_ERROR(WriteImage((fs::path(outdir) / "semantic_topview.png").string(),
+                                    ColourSemanticTopView(top, occupancy_image, /*show_unlabelled=*/min_confidence > 0)));
   return Status::Ok();
 }
 
@@ -110,6 +120,11 @@ nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, 
                                  {"unfamiliar_views", evidence.room_views_unfamiliar},
                                  {"discounted", options.room_view_familiarity},
                                  {"mean_weight", evidence.room_view_weight_sum / double(evidence.room_views_measured)}};
+  if (options.min_confidence > 0) {
+    size_t below = 0;
+    for (const SemanticVoxelRecord& r : labels.map.occupied) below += r.confidence < options.min_confidence;
+    j["min_confidence"] = {{"value", options.min_confidence}, {"voxels_below", below}};
+  }
   j["occupied_voxels"] = labels.map.occupied.size();
   j["completed_voxels"] = labels.map.completed_count();
   nlohmann::ordered_json hist = nlohmann::ordered_json::object();

@@ -20,9 +20,10 @@ namespace semvox {
 // (every known voxel of the refined map; occupied ones with label and confidence) and the top views between
 // band_min_m and band_max_m above the floor (both on the grid, canonical frame). Rooms are those already
 // assigned to labels.map (AssignRooms).
+// Labels under `min_confidence` are written as 0 to map.ot and the top views (voxels.ply keeps them all).
 Status WriteSemanticExports(const std::string& outdir, const VoxelMap& map, const SemanticLabels& labels, double band_min_m,
                             double band_max_m, const ImageRgb8& occupancy_image,
-                            const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity());
+                            const Eigen::Isometry3d& input_from_world = Eigen::Isometry3d::Identity(), double min_confidence = 0);
 
 // summary.json's "semantic" object: models, views, nodes, iterations, label histogram, seconds, files.
 nlohmann::ordered_json SemanticSummaryJson(const SemanticStageOptions& options, const SemanticModels& models,

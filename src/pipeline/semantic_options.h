@@ -86,6 +86,9 @@ struct SemanticStageOptions {
   // training views' familiar distance has its room-type distribution mixed with the uniform one, fully at twice
   // that distance (perception/room_evidence.h, DiscountUnfamiliarRoomView).
   bool room_view_familiarity = true;
+  // Labels whose confidence lies under this are written as 0 (unlabelled) to map.ot and the semantic top views;
+  // voxels.ply keeps every voxel's best guess with its confidence (pipeline/semantic_exports.h). 0: every label.
+  double min_confidence = 0;
   ViewSelectionOptions selection;  // For kCover.
   VoxelEvidenceOptions evidence;
   VoxelCrfOptions crf;
@@ -147,6 +150,10 @@ struct SemanticStageOptions {
                          "each other (their 0.99-quantile) says less about its room: its room-type distribution mixes "
                          "with the uniform one, in proportion up to twice that distance, where it says nothing; off: "
                          "every view counts fully"),
+            OptionNumber(&O::min_confidence, "min_confidence", 0, 1, "",
+                         "labels whose confidence lies under this are written as 0 (unlabelled) to map.ot and the semantic "
+                         "top views (drawn dark grey); voxels.ply keeps every voxel's best guess with its confidence; 0: "
+                         "every label (`semvox run --min-confidence`)"),
             OptionNumber(&O::classify_width, "classify_width", 16, 4096, "pixels",
                          "classification view width (the shipped classifiers are trained at 320)"),
             OptionNumber(&O::classify_height, "classify_height", 16, 4096, "pixels",

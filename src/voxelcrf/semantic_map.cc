@@ -158,7 +158,8 @@ ImageU16 SemanticTopView(const SemanticMap& map, const VoxelGrid& grid, double f
   return img;
 }
 
-ImageRgb8 ColourSemanticTopView(const ImageU16& labels, const ImageRgb8& occupancy_pgm) {
+ImageRgb8 ColourSemanticTopView(const ImageU16& labels, const ImageRgb8& occupancy_pgm, bool show_unlabelled) {
+  const Rgb8 unsure{80, 80, 80};
   ImageRgb8 out(labels.width, labels.height, 3, 255);
   std::map<int, size_t> present;
   for (int y = 0; y < labels.height; ++y)
@@ -170,6 +171,8 @@ ImageRgb8 ColourSemanticTopView(const ImageU16& labels, const ImageRgb8& occupan
         ++present[l];
       } else if (!occupancy_pgm.empty() && occupancy_pgm.at(x, y) == kPgmUnknown) {
         c = Rgb8{180, 180, 180};
+      } else if (show_unlabelled && !occupancy_pgm.empty() && occupancy_pgm.at(x, y) == kPgmOccupied) {
+        c = unsure;
       }
       out.at(x, y, 0) = c.r, out.at(x, y, 1) = c.g, out.at(x, y, 2) = c.b;
     }
@@ -177,6 +180,7 @@ ImageRgb8 ColourSemanticTopView(const ImageU16& labels, const ImageRgb8& occupan
   for (const auto& [l, count] : present) legend.push_back({Nyu40Labels()[size_t(l)].color, Nyu40Labels()[size_t(l)].name});
   legend.push_back({Rgb8{255, 255, 255}, "free"});
   legend.push_back({Rgb8{180, 180, 180}, "unknown"});
+  if (show_unlabelled) legend.push_back({unsure, "under the confidence floor"});
   return AppendLegend(out, legend);
 }
 

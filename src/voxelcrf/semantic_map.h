@@ -65,7 +65,8 @@ ImageU16 SemanticTopView(const SemanticMap& map, const VoxelGrid& grid, double f
                          double min_confidence = 0);
 
 // The top view in colour: labels in their NYU40 display colours, free cells white, unknown grey (from the
-// refined occupancy image), with a legend of the labels present.
-ImageRgb8 ColourSemanticTopView(const ImageU16& labels, const ImageRgb8& occupancy_pgm);
+// refined occupancy image), with a legend of the labels present. `show_unlabelled`: occupied cells without a
+// label (under the confidence floor) dark grey, with their own legend entry.
+ImageRgb8 ColourSemanticTopView(const ImageU16& labels, const ImageRgb8& occupancy_pgm, bool show_unlabelled = false);
 
 }  // namespace semvox

@@ -172,5 +172,47 @@ TEST(SemanticCli, ObjectsSectionSwitchesTheSupportStageOff) {
   EXPECT_FALSE(std::filesystem::exists(bad + "/summary.json"));
 }
 
+// --min-confidence: labels under the floor (0.8 here) are 0 in map.ot and the top views, voxels.ply keeps every label
+// and summary.json counts them; out of [0, 1] is one error line.
+TEST(SemanticCli, MinConfidenceUnlabelsUnsureVoxelsInTheExportsOnly) {
+  testing::ScratchDir dir("semantic_cli_min_conf");
+  const std::string gt = dir.File("gt"), log = dir.File("log.txt"), config = std::string(SEMVOX_SOURCE_DIR) + "/tests/data/semantic.yaml";
+  ASSERT_EQ(RunSemvox("generate --seed 104 --set apartment.max_rooms=2 -o " + gt, log), 0) << testing::ReadText(log);
+  const std::string all = dir.File("all"), sure = dir.File("sure");
+  ASSERT_EQ(RunSemvox("run " + gt + "/mesh.ply -o " + all + " --config " + config, log), 0) << testing::ReadText(log);
+  ASSERT_EQ(RunSemvox("run " + gt + "/mesh.ply -o " + sure + " --config " + config + " --min-confidence 0.8", log), 0)
+      << testing::ReadText(log);
+  // voxels.ply is the same; the summary counts the voxels under the floor.
+  EXPECT_TRUE(testing::ReadText(all + "/voxels.ply") == testing::ReadText(sure + "/voxels.ply"));
+  Result<PlyData> ply = ReadPly(all + "/voxels.ply");
+  ASSERT_TRUE(ply.ok());
+  const PlyElement* v = ply->Find("vertex");
+  size_t below = 0;
+  for (double c : v->Find("confidence")->values) below += c < 0.8;
+  std::ifstream sj(sure + "/summary.json");
+  const nlohmann::json s = nlohmann::json::parse(sj);
+  EXPECT_EQ(s["semantic"]["min_confidence"]["voxels_below"].get<size_t>(), below);
+  ASSERT_GT(below, 0u);
+  // The top view: every labelled cell of the floored view is labelled alike without the floor, and fewer are.
+  Result<ImageU16> a = ReadImageU16(all + "/semantic_topview_labels.png"), b = ReadImageU16(sure + "/semantic_topview_labels.png");
+  ASSERT_TRUE(a.ok() && b.ok());
+  size_t labelled_a = 0, labelled_b = 0, disagree = 0;
+  for (int y = 0; y < a->height; ++y)
+    for (int x = 0; x < a->width; ++x) {
+      labelled_a += a->at(x, y) != 0, labelled_b += b->at(x, y) != 0;
+      disagree += b->at(x, y) != 0 && b->at(x, y) != a->at(x, y);
+    }
+  EXPECT_LT(labelled_b, labelled_a);
+  EXPECT_EQ(disagree, 0u);
+  // map.ot: no label under the floor.
+  double resolution = 0;
+  Result<std::vector<SemanticVoxel>> ot = ReadSemanticOctree(sure + "/map.ot", &resolution);
+  ASSERT_TRUE(ot.ok());
+  for (const SemanticVoxel& sv : *ot)
+    if (sv.occupied && sv.label != 0) ASSERT_GE(sv.confidence, 0.8f);
+  EXPECT_NE(RunSemvox("run " + gt + "/mesh.ply -o " + dir.File("bad") + " --min-confidence 1.5", log), 0);
+  EXPECT_NE(testing::ReadText(log).find("--min-confidence"), std::string::npos) << testing::ReadText(log);
+}
+
 }  // namespace
 }  // namespace semvox
