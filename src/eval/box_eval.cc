@@ -206,9 +206,6 @@ Result<RunExtras> ReadRunExtras(const std::string& pred_dir) {
 }
 
 Result<BoxEvalReport> EvaluateRunAgainstBoxes(const std::string& pred_dir, const std::string& gt_path) {
-  std::error_code ec;
-  if (!fs::is_directory(pred_dir, ec))
-    return Status::InvalidInput(FileError(pred_dir, "not a directory", "pass the OUTDIR of `semvox run`"));
   Result<BoxGroundTruth> gt = ReadBoxGroundTruth(gt_path);
   if (!gt.ok()) return gt.status();
   Result<RunExtras> extras = ReadRunExtras(pred_dir);

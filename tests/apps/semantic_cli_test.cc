@@ -208,8 +208,11 @@ TEST(SemanticCli, MinConfidenceUnlabelsUnsureVoxelsInTheExportsOnly) {
   double resolution = 0;
   Result<std::vector<SemanticVoxel>> ot = ReadSemanticOctree(sure + "/map.ot", &resolution);
   ASSERT_TRUE(ot.ok());
-  for (const SemanticVoxel& sv : *ot)
-    if (sv.occupied && sv.label != 0) ASSERT_GE(sv.confidence, 0.8f);
+  for (const SemanticVoxel& sv : *ot) {
+    if (sv.occupied && sv.label != 0) {
+      ASSERT_GE(sv.confidence, 0.8f);
+    }
+  }
   EXPECT_NE(RunSemvox("run " + gt + "/mesh.ply -o " + dir.File("bad") + " --min-confidence 1.5", log), 0);
   EXPECT_NE(testing::ReadText(log).find("--min-confidence"), std::string::npos) << testing::ReadText(log);
 }
