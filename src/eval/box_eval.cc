@@ -205,18 +205,19 @@ Result<RunExtras> ReadRunExtras(const std::string& pred_dir) {
   return out;
 }
 
+Result<RunVoxels> ReadRunVoxels(const std::string& pred_dir, const RunExtras& extras) {
+  return ReadRunVoxels((fs::path(pred_dir) / "voxels.ply").string(), extras.voxel_size_m);
+}
+
 Result<BoxEvalReport> EvaluateRunAgainstBoxes(const std::string& pred_dir, const std::string& gt_path) {
   Result<BoxGroundTruth> gt = ReadBoxGroundTruth(gt_path);
   if (!gt.ok()) return gt.status();
   Result<RunExtras> extras = ReadRunExtras(pred_dir);
   if (!extras.ok()) return extras.status();
-  Result<RunVoxels> voxels = ReadRunVoxels((fs::path(pred_dir) / "voxels.ply").string(), extras->voxel_size_m);
+  Result<RunVoxels> voxels = ReadRunVoxels(pred_dir, *extras);
   if (!voxels.ok()) return voxels.status();
   BoxEvalReport rep = EvaluateBoxes(*voxels, *gt);
-  rep.pred_dir = pred_dir;
-  rep.seconds = std::move(extras->seconds);
-  rep.rooms = std::move(extras->rooms);
-  rep.rooms_present = extras->rooms_present;
+  AttachRunExtras(pred_dir, std::move(*extras), &rep);
   return rep;
 }
 

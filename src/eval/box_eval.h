@@ -123,6 +123,16 @@ struct RunExtras {
 };
 // OUTDIR must be a directory; summary.json and rooms.geojson are optional.
 Result<RunExtras> ReadRunExtras(const std::string& pred_dir);
+// OUTDIR/voxels.ply at the voxel size `extras` read.
+Result<RunVoxels> ReadRunVoxels(const std::string& pred_dir, const RunExtras& extras);
+// A real-scan report (BoxEvalReport, PointEvalReport) takes the run's directory, seconds and rooms.
+template <class Report>
+void AttachRunExtras(const std::string& pred_dir, RunExtras&& extras, Report* report) {
+  report->pred_dir = pred_dir;
+  report->seconds = std::move(extras.seconds);
+  report->rooms = std::move(extras.rooms);
+  report->rooms_present = extras.rooms_present;
+}
 // The "rooms:" and "run seconds:" lines of the eval tables.
 void AppendRoomsAndSeconds(const Score& rooms_present, const std::vector<RoomFound>& rooms,
                            const std::vector<std::pair<std::string, double>>& seconds, std::ostream& os);

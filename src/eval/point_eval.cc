@@ -151,13 +151,10 @@ Result<PointEvalReport> EvaluateRunAgainstPoints(const std::string& pred_dir, co
   if (!extras.ok()) return extras.status();
   Result<LabelledPoints> gt = ReadLabelledPoints(gt_path);
   if (!gt.ok()) return gt.status();
-  Result<RunVoxels> voxels = ReadRunVoxels((fs::path(pred_dir) / "voxels.ply").string(), extras->voxel_size_m);
+  Result<RunVoxels> voxels = ReadRunVoxels(pred_dir, *extras);
   if (!voxels.ok()) return voxels.status();
   PointEvalReport rep = EvaluatePoints(*voxels, *gt);
-  rep.pred_dir = pred_dir;
-  rep.seconds = std::move(extras->seconds);
-  rep.rooms = std::move(extras->rooms);
-  rep.rooms_present = extras->rooms_present;
+  AttachRunExtras(pred_dir, std::move(*extras), &rep);
   return rep;
 }
 
